@@ -1,0 +1,3 @@
+//! Integration tests of usar-map, one binary (see STYLE.md).
+
+mod planning;

@@ -1,0 +1,6 @@
+//! Importers and exporters for maps made elsewhere: ROS `map_server` (YAML + PGM/PNG), bare
+//! PGM/PNG images, MovingAI `.map` grids and `.scen` scenario files.
+
+pub mod image_map;
+pub mod movingai;
+pub mod ros;
