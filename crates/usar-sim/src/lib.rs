@@ -1,14 +1,43 @@
-pub fn add(left: u64, right: u64) -> u64 {
-    left + right
-}
+//! `usar-sim` is the simulator: robot models with footprints and climbing abilities (a tracked
+//! crawler and a wheeled base), unicycle kinematics with collision detection against the 2.5-D
+//! scene and between robots, and sensors with seeded noise — the 2-D laser, the laser tilted
+//! down, the front depth array D_xy, the thermal camera, infrared proximity, odometry and
+//! attitude.
+//!
+//! A run is a pure function of (scene, configuration, seed): every robot draws its noise from
+//! its own `Pcg64Mcg` stream derived from the seed and its id.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use usar_sim::{RobotSpec, SimConfig, Simulation, Velocity, sensors::LaserScan};
+//! use usar_world::{GridGeometry, Point2, Pose2, Scene};
+//!
+//! let scene = Arc::new(Scene::empty("hall", GridGeometry::new(100, 100, 0.1, Point2::new(0.0, 0.0))));
+//! let mut sim = Simulation::new(scene, SimConfig::default(), 7);
+//! let robot = sim.add_robot(RobotSpec::wheeled(), Pose2::new(5.0, 5.0, 0.0)).unwrap();
+//! sim.step(&[Velocity { linear_mps: 0.5, angular_radps: 0.0 }]);
+//! let mut scan = LaserScan::default();
+//! sim.scan_laser(robot, &mut scan);
+//! assert_eq!(scan.ranges_m.len(), 360);
+//! assert!((sim.robot(robot).pose.x - 5.05).abs() < 1e-9);
+//! ```
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+mod robot;
+pub mod sensors;
+mod simulation;
+mod traversability;
 
-    #[test]
-    fn it_works() {
-        let result = add(2, 2);
-        assert_eq!(result, 4);
-    }
+pub use self::robot::{Locomotion, RobotSpec};
+pub use self::simulation::{PlacementError, RobotId, SimConfig, SimRobot, Simulation, Velocity, derive_seed};
+pub use self::traversability::{compute_blocked, footprint_cells};
+
+/// Errors reading simulator inputs.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// A file could not be read.
+    #[error("{path}: {io}")]
+    Io { path: String, io: std::io::Error },
+    /// A robot file is malformed or holds an implausible value.
+    #[error("{path}: {message}")]
+    RobotFile { path: String, message: String },
 }

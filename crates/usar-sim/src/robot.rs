@@ -1,0 +1,183 @@
+//! Robot models: footprint, climbing ability, speeds and sensor mounts. A crawler and a wheeled
+//! robot differ in what they can climb, so heterogeneous teams exist (SPEC §0).
+
+use crate::sensors::{DepthSpec, InfraredSpec, LaserSpec, NoiseSpec, ThermalSpec, TiltedLaserSpec};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// How a robot moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Locomotion {
+    /// Tracks: climbs rubble, slopes and stairs.
+    Crawler,
+    /// Wheels: flat floors and gentle ramps only.
+    Wheeled,
+}
+
+/// A robot model. Loadable from a TOML file (see `docs/robot-format.md`); every field has the
+/// default of its preset, so a file may set only what differs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    pub name: String,
+    pub locomotion: Locomotion,
+    /// Footprint length along the heading, metres.
+    pub length_m: f64,
+    /// Footprint width, metres.
+    pub width_m: f64,
+    /// Steepest inclination the robot can drive on, radians.
+    pub max_inclination_rad: f64,
+    /// Highest step (height difference between neighbouring floor cells) it can climb, metres.
+    pub max_step_m: f64,
+    pub max_linear_mps: f64,
+    pub max_angular_radps: f64,
+    pub laser: LaserSpec,
+    pub tilted_laser: TiltedLaserSpec,
+    pub depth: DepthSpec,
+    pub thermal: ThermalSpec,
+    pub infrared: InfraredSpec,
+    pub noise: NoiseSpec,
+}
+
+impl RobotSpec {
+    /// A tracked rescue robot (the size of a small crawler such as those of papers 000 and 004):
+    /// 0.6 × 0.45 m, climbs 35° slopes and 0.2 m steps, 0.5 m/s.
+    pub fn crawler() -> Self {
+        Self {
+            name: "crawler".into(),
+            locomotion: Locomotion::Crawler,
+            length_m: 0.6,
+            width_m: 0.45,
+            max_inclination_rad: 35f64.to_radians(),
+            max_step_m: 0.20,
+            max_linear_mps: 0.5,
+            max_angular_radps: 1.0,
+            laser: LaserSpec::default(),
+            tilted_laser: TiltedLaserSpec::default(),
+            depth: DepthSpec::default(),
+            thermal: ThermalSpec::default(),
+            infrared: InfraredSpec::default(),
+            noise: NoiseSpec::default(),
+        }
+    }
+
+    /// A wheeled indoor robot (a Pioneer-class base as in paper 002's USARSim teams):
+    /// 0.5 × 0.4 m, 15° ramps, 0.05 m steps, 0.5 m/s.
+    pub fn wheeled() -> Self {
+        Self {
+            name: "wheeled".into(),
+            locomotion: Locomotion::Wheeled,
+            length_m: 0.5,
+            width_m: 0.4,
+            max_inclination_rad: 15f64.to_radians(),
+            max_step_m: 0.05,
+            max_linear_mps: 0.5,
+            max_angular_radps: 1.2,
+            ..Self::crawler()
+        }
+    }
+
+    /// A preset by name (`crawler`, `wheeled`), or `None`.
+    pub fn preset(name: &str) -> Option<Self> {
+        match name {
+            "crawler" => Some(Self::crawler()),
+            "wheeled" => Some(Self::wheeled()),
+            _ => None,
+        }
+    }
+
+    /// Radius of the circle around the footprint: planners inflate obstacles by it so that the
+    /// robot can turn anywhere on its path.
+    pub fn circumscribed_radius_m(&self) -> f64 {
+        0.5 * self.length_m.hypot(self.width_m)
+    }
+
+    /// Reads a robot file (TOML). It names a `preset` to start from and overrides fields of it.
+    pub fn from_toml_file(path: &Path) -> Result<Self, crate::SimError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| crate::SimError::Io { path: path.display().to_string(), io: e })?;
+        Self::from_toml(&text, path)
+    }
+
+    /// Parses a robot file; `path` is used in error messages only.
+    pub fn from_toml(text: &str, path: &Path) -> Result<Self, crate::SimError> {
+        let bad = |message: String| crate::SimError::RobotFile { path: path.display().to_string(), message };
+        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
+        let preset = match table.remove("preset") {
+            None => Self::crawler(),
+            Some(toml::Value::String(name)) => Self::preset(&name)
+                .ok_or_else(|| bad(format!("field `preset`: found {name:?}, expected \"crawler\" or \"wheeled\"")))?,
+            Some(other) => return Err(bad(format!("field `preset`: found {other}, expected a string"))),
+        };
+        let mut base = toml::Table::try_from(&preset).map_err(|e| bad(e.to_string()))?;
+        merge_tables(&mut base, table);
+        let spec: RobotSpec = base.try_into().map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
+        spec.validate().map_err(bad)?;
+        Ok(spec)
+    }
+
+    /// Checks physical plausibility; the error names the field.
+    pub fn validate(&self) -> Result<(), String> {
+        let positive = [
+            ("length_m", self.length_m),
+            ("width_m", self.width_m),
+            ("max_linear_mps", self.max_linear_mps),
+            ("max_angular_radps", self.max_angular_radps),
+            ("laser.max_range_m", self.laser.max_range_m),
+            ("laser.mount_height_m", self.laser.mount_height_m),
+        ];
+        for (field, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("field `{field}`: found {v}, expected a positive number"));
+            }
+        }
+        if !(0.0..std::f64::consts::FRAC_PI_2).contains(&self.max_inclination_rad) {
+            return Err(format!(
+                "field `max_inclination_rad`: found {}, expected an angle in [0, π/2)",
+                self.max_inclination_rad
+            ));
+        }
+        if !(self.max_step_m.is_finite() && self.max_step_m >= 0.0) {
+            return Err(format!("field `max_step_m`: found {}, expected ≥ 0 metres", self.max_step_m));
+        }
+        if self.laser.beams == 0 {
+            return Err("field `laser.beams`: found 0, expected at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// Recursively overrides `base` with `over` (tables merge, other values replace).
+fn merge_tables(base: &mut toml::Table, over: toml::Table) {
+    for (k, v) in over {
+        match (base.get_mut(&k), v) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_tables(b, o),
+            (_, v) => {
+                base.insert(k, v);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn robot_file_overrides_a_preset() {
+        let spec = RobotSpec::from_toml("preset = \"wheeled\"\nwidth_m = 0.7\n[laser]\nbeams = 180\n", Path::new("r.toml")).unwrap();
+        assert_eq!(spec.width_m, 0.7);
+        assert_eq!(spec.laser.beams, 180);
+        assert_eq!(spec.locomotion, Locomotion::Wheeled);
+        assert_eq!(spec.max_step_m, RobotSpec::wheeled().max_step_m);
+    }
+
+    #[test]
+    fn robot_file_with_a_typo_names_the_field() {
+        let err = RobotSpec::from_toml("widht_m = 0.7\n", Path::new("r.toml")).unwrap_err().to_string();
+        assert!(err.contains("r.toml") && err.contains("widht_m"), "{err}");
+        let err = RobotSpec::from_toml("width_m = -1.0\n", Path::new("r.toml")).unwrap_err().to_string();
+        assert!(err.contains("width_m") && err.contains("-1"), "{err}");
+    }
+}

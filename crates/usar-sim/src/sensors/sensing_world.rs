@@ -1,0 +1,140 @@
+//! The ground truth as the sensors see it: one flat grid of "blocking heights" — the floor height
+//! of each cell, or +∞ where a wall or furniture stands. A beam at height z is stopped by the
+//! first cell whose blocking height reaches z.
+
+use usar_world::{GridGeometry, GridRay, Point2, Scene};
+
+/// Blocking heights of a scene, built once and shared by every robot's sensors.
+#[derive(Clone, Debug)]
+pub struct SensingWorld {
+    geometry: GridGeometry,
+    blocking_height_m: Vec<f32>,
+}
+
+impl SensingWorld {
+    pub fn new(scene: &Scene) -> Self {
+        let blocking_height_m = scene
+            .obstacle
+            .as_slice()
+            .iter()
+            .zip(scene.floor_height_m.as_slice())
+            .map(|(&o, &h)| if o != usar_world::obstacle::NONE { f32::INFINITY } else { h })
+            .collect();
+        Self { geometry: *scene.geometry(), blocking_height_m }
+    }
+
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+
+    /// Floor height under a point (+∞ on an obstacle, `None` outside the grid).
+    #[inline]
+    pub fn height_at(&self, p: Point2) -> Option<f32> {
+        self.geometry.checked_index(self.geometry.world_to_cell(p)).map(|i| self.blocking_height_m[i])
+    }
+
+    /// Distance (m) along a horizontal beam at height `z_m` from `origin` in direction
+    /// (`cos`, `sin`) to the first cell that blocks it, or `None` if nothing does within
+    /// `max_range_m`. A beam that leaves the grid returns `None`.
+    #[inline]
+    pub fn cast_horizontal(&self, origin: Point2, cos: f64, sin: f64, z_m: f32, max_range_m: f64) -> Option<f64> {
+        let g = &self.geometry;
+        let max_t = max_range_m / g.resolution_m;
+        let (w, h) = (g.width, g.height);
+        let heights = self.blocking_height_m.as_slice();
+        let mut ray = GridRay::new(g, origin, cos, sin);
+        loop {
+            let i = ray.index_in(w, h)?;
+            if heights[i] >= z_m {
+                return Some(ray.t_entry * g.resolution_m);
+            }
+            ray.advance();
+            if ray.t_entry > max_t {
+                return None;
+            }
+        }
+    }
+
+    /// Distance (m, along the 3-D beam) from a sensor at (`origin`, `z0_m`) looking in horizontal
+    /// direction (`cos`, `sin`) and pitched down by `pitch_down_rad` (negative: up) to the first
+    /// surface it meets — a cell's side or its floor — or `None` within `max_range_m`.
+    pub fn cast_3d(&self, origin: Point2, z0_m: f64, cos: f64, sin: f64, pitch_down_rad: f64, max_range_m: f64) -> Option<f64> {
+        let g = &self.geometry;
+        let (sp, cp) = pitch_down_rad.sin_cos();
+        if cp <= 1e-9 {
+            // Straight down (or up): the floor under the sensor, if it is below.
+            let h = f64::from(self.height_at(origin)?);
+            return (sp > 0.0 && z0_m - h <= max_range_m && h.is_finite()).then(|| z0_m - h);
+        }
+        let tan_p = sp / cp;
+        let max_s = max_range_m * cp;
+        let res = g.resolution_m;
+        let mut ray = GridRay::new(g, origin, cos, sin);
+        loop {
+            let i = ray.index_in(g.width, g.height)?;
+            let top = f64::from(self.blocking_height_m[i]);
+            let s_in = ray.t_entry * res;
+            if s_in > max_s {
+                return None;
+            }
+            let z_in = z0_m - s_in * tan_p;
+            if top >= z_in {
+                return Some(s_in / cp);
+            }
+            if tan_p > 0.0 {
+                let s_out = ray.t_exit() * res;
+                let z_out = z0_m - s_out * tan_p;
+                if top >= z_out {
+                    let s_hit = (z0_m - top) / tan_p;
+                    return (s_hit <= max_s).then_some(s_hit / cp);
+                }
+            }
+            ray.advance();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use usar_world::{Cell, Grid, obstacle};
+
+    fn corridor() -> Scene {
+        let g = GridGeometry::new(100, 20, 0.1, Point2::new(0.0, 0.0));
+        let mut s = Scene::empty("t", g);
+        for row in 0..20 {
+            s.obstacle[Cell::new(80, row)] = obstacle::WALL;
+        }
+        // A 0.2 m step from column 50 on.
+        s.floor_height_m = Grid::from_vec(g, (0..g.len()).map(|i| if i % 100 >= 50 { 0.2 } else { 0.0 }).collect()).unwrap();
+        s
+    }
+
+    #[test]
+    fn horizontal_beam_stops_at_wall_or_higher_floor() {
+        let w = SensingWorld::new(&corridor());
+        let d = w.cast_horizontal(Point2::new(1.05, 1.0), 1.0, 0.0, 0.3, 20.0).unwrap();
+        assert!((d - (8.0 - 1.05)).abs() < 1e-9, "{d}");
+        // A beam at 0.1 m is stopped by the 0.2 m step at x = 5.0.
+        let d = w.cast_horizontal(Point2::new(1.05, 1.0), 1.0, 0.0, 0.1, 20.0).unwrap();
+        assert!((d - (5.0 - 1.05)).abs() < 1e-9, "{d}");
+        assert!(w.cast_horizontal(Point2::new(1.05, 1.0), -1.0, 0.0, 0.3, 0.5).is_none());
+    }
+
+    #[test]
+    fn tilted_beam_meets_the_floor_at_the_expected_range() {
+        let w = SensingWorld::new(&corridor());
+        // Sensor 0.5 m above a flat floor, pitched down 30°: meets the floor after 1.0 m.
+        let d = w.cast_3d(Point2::new(1.05, 1.0), 0.5, 1.0, 0.0, 30f64.to_radians(), 4.0).unwrap();
+        assert!((d - 1.0).abs() < 1e-9, "{d}");
+        // 0.5 m before the wall at x = 8.0 the beam is still 0.21 m high: it hits the wall's face.
+        let d = w.cast_3d(Point2::new(7.5, 1.0), 0.5, 1.0, 0.0, 30f64.to_radians(), 4.0).unwrap();
+        assert!((d - 0.5 / 30f64.to_radians().cos()).abs() < 1e-9, "{d}");
+        // Near the 0.2 m step the beam clears its edge (z = 0.211 m at x = 5.0) and meets its
+        // top where z = 0.2 m, i.e. 0.3 / tan 30° ahead.
+        let d = w.cast_3d(Point2::new(4.5, 1.0), 0.5, 1.0, 0.0, 30f64.to_radians(), 4.0).unwrap();
+        let expected_horizontal = 0.3 / 30f64.to_radians().tan();
+        // Heights are f32: 0.2 is stored as 0.200000003.
+        assert!((d * 30f64.to_radians().cos() - expected_horizontal).abs() < 1e-6, "{d}");
+    }
+}

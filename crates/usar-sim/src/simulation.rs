@@ -1,0 +1,345 @@
+//! The time-stepped world: several robots moving by unicycle kinematics (v, ω) in one scene.
+//! Motions that would put a footprint on a blocked cell or on another robot are stopped and
+//! counted as collisions; robots never pass through walls.
+
+use crate::robot::RobotSpec;
+use crate::sensors::{
+    Attitude, DepthImage, HeatDetection, InfraredReading, LaserModel, LaserScan, Odometry,
+    SensingWorld, TiltedScan,
+};
+use crate::traversability::{compute_blocked, footprint_cells};
+use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use usar_world::{Grid, Pose2, Scene};
+
+/// Index of a robot in its simulation, in the order robots were added.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct RobotId(pub usize);
+
+/// A velocity command for a unicycle robot.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Velocity {
+    pub linear_mps: f64,
+    pub angular_radps: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SimConfig {
+    /// Length of one time step, seconds.
+    pub dt_s: f64,
+    /// Whether robots block each other (their footprints may not overlap).
+    pub robots_collide: bool,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        Self { dt_s: 0.1, robots_collide: true }
+    }
+}
+
+/// A robot in the simulation: its true state, its own noise stream and odometry.
+#[derive(Clone, Debug)]
+pub struct SimRobot {
+    pub id: RobotId,
+    pub spec: Arc<RobotSpec>,
+    /// True pose (ground truth).
+    pub pose: Pose2,
+    /// Collision events: each time a motion is stopped after one that was not.
+    pub collisions: u32,
+    /// Distance actually travelled, metres.
+    pub distance_m: f64,
+    /// A failed robot no longer moves or senses.
+    pub failed: bool,
+    pub odometry: Odometry,
+    in_contact: bool,
+    rng: Pcg64Mcg,
+    blocked: Arc<Grid<bool>>,
+    laser: Arc<LaserModel>,
+}
+
+impl SimRobot {
+    /// The ground truth of where this robot can stand (`true` = blocked).
+    pub fn blocked(&self) -> &Grid<bool> {
+        &self.blocked
+    }
+}
+
+/// Why a robot could not be added.
+#[derive(Debug, thiserror::Error)]
+pub enum PlacementError {
+    /// The start pose puts the footprint on a blocked cell or another robot.
+    #[error("robot {name} cannot start at ({x:.2}, {y:.2}): its footprint is not free there")]
+    NotFree { name: String, x: f64, y: f64 },
+    /// The robot spec is physically implausible.
+    #[error("robot {name}: {message}")]
+    BadSpec { name: String, message: String },
+}
+
+/// The simulator.
+pub struct Simulation {
+    scene: Arc<Scene>,
+    world: Arc<SensingWorld>,
+    robots: Vec<SimRobot>,
+    config: SimConfig,
+    seed: u64,
+    time_s: f64,
+    blocked_cache: Vec<(RobotSpec, Arc<Grid<bool>>)>,
+}
+
+/// SplitMix64: a well-mixed 64-bit value from a seed and a stream number, so that each robot's
+/// noise stream is independent of the others and of the number of robots.
+pub fn derive_seed(seed: u64, stream: u64) -> u64 {
+    let mut z = seed ^ stream.wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+impl Simulation {
+    pub fn new(scene: Arc<Scene>, config: SimConfig, seed: u64) -> Self {
+        let world = Arc::new(SensingWorld::new(&scene));
+        Self { scene, world, robots: Vec::new(), config, seed, time_s: 0.0, blocked_cache: Vec::new() }
+    }
+
+    pub fn scene(&self) -> &Arc<Scene> {
+        &self.scene
+    }
+
+    pub fn sensing_world(&self) -> &Arc<SensingWorld> {
+        &self.world
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        &self.config
+    }
+
+    pub fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    pub fn robots(&self) -> &[SimRobot] {
+        &self.robots
+    }
+
+    pub fn robot(&self, id: RobotId) -> &SimRobot {
+        &self.robots[id.0]
+    }
+
+    /// The ground-truth blocked grid for a robot spec (computed once per distinct spec).
+    pub fn blocked_for(&mut self, spec: &RobotSpec) -> Arc<Grid<bool>> {
+        let key = |s: &RobotSpec| (s.length_m, s.max_inclination_rad, s.max_step_m);
+        if let Some((_, g)) = self.blocked_cache.iter().find(|(s, _)| key(s) == key(spec)) {
+            return g.clone();
+        }
+        let g = Arc::new(compute_blocked(&self.scene, spec));
+        self.blocked_cache.push((spec.clone(), g.clone()));
+        g
+    }
+
+    /// Adds a robot at `pose`. Its noise stream is derived from the simulation seed and its id.
+    pub fn add_robot(&mut self, spec: RobotSpec, pose: Pose2) -> Result<RobotId, PlacementError> {
+        spec.validate().map_err(|message| PlacementError::BadSpec { name: spec.name.clone(), message })?;
+        let id = RobotId(self.robots.len());
+        let blocked = self.blocked_for(&spec);
+        let laser = Arc::new(LaserModel::new(spec.laser.clone()));
+        let robot = SimRobot {
+            id,
+            spec: Arc::new(spec),
+            pose,
+            collisions: 0,
+            distance_m: 0.0,
+            failed: false,
+            odometry: Odometry::new(pose),
+            in_contact: false,
+            rng: Pcg64Mcg::seed_from_u64(derive_seed(self.seed, id.0 as u64)),
+            blocked,
+            laser,
+        };
+        if !self.pose_is_free(&robot, pose) {
+            return Err(PlacementError::NotFree { name: robot.spec.name.to_string(), x: pose.x, y: pose.y });
+        }
+        self.robots.push(robot);
+        Ok(id)
+    }
+
+    /// Marks a robot as failed: it stops for good.
+    pub fn fail_robot(&mut self, id: RobotId) {
+        self.robots[id.0].failed = true;
+    }
+
+    /// Floor height under a point (0 outside the grid or on an obstacle).
+    pub fn floor_z(&self, p: usar_world::Point2) -> f64 {
+        match self.world.height_at(p) {
+            Some(h) if h.is_finite() => f64::from(h),
+            _ => 0.0,
+        }
+    }
+
+    fn pose_is_free(&self, robot: &SimRobot, pose: Pose2) -> bool {
+        let g = self.scene.geometry();
+        let inside = footprint_cells(g, pose, robot.spec.length_m, robot.spec.width_m, |c| {
+            robot.blocked.get(c).is_some_and(|&b| !b)
+        });
+        inside
+            && !(self.config.robots_collide
+                && self.robots.iter().any(|o| {
+                    o.id != robot.id && rectangles_overlap(pose, &robot.spec, o.pose, &o.spec)
+                }))
+    }
+
+    /// Advances time by one step; `commands[i]` drives robot i (missing commands mean stop).
+    /// Robots move in id order; each motion is split into sub-steps of at most half a cell (at
+    /// the footprint's corners when turning) and stops at the first blocked sub-step.
+    pub fn step(&mut self, commands: &[Velocity]) {
+        let dt = self.config.dt_s;
+        let half_cell = self.scene.geometry().resolution_m / 2.0;
+        for i in 0..self.robots.len() {
+            if self.robots[i].failed {
+                continue;
+            }
+            let cmd = commands.get(i).copied().unwrap_or_default();
+            let spec = self.robots[i].spec.clone();
+            let v = cmd.linear_mps.clamp(-spec.max_linear_mps, spec.max_linear_mps);
+            let w = cmd.angular_radps.clamp(-spec.max_angular_radps, spec.max_angular_radps);
+            let (ds, dth) = (v * dt, w * dt);
+            let sweep = ds.abs().max(dth.abs() * spec.circumscribed_radius_m());
+            let n = ((sweep / half_cell).ceil() as usize).max(1);
+            let (ds_n, dth_n) = (ds / n as f64, dth / n as f64);
+            let mut stopped = false;
+            for _ in 0..n {
+                let p = self.robots[i].pose;
+                let mid = p.theta + dth_n / 2.0;
+                let next = Pose2::new(p.x + ds_n * mid.cos(), p.y + ds_n * mid.sin(), usar_world::normalize_angle(p.theta + dth_n));
+                if !self.pose_is_free(&self.robots[i], next) {
+                    stopped = true;
+                    break;
+                }
+                let r = &mut self.robots[i];
+                r.pose = next;
+                r.distance_m += ds_n.abs();
+                let noise = r.spec.noise.clone();
+                r.odometry.integrate(ds_n, dth_n, &noise, &mut r.rng);
+            }
+            let r = &mut self.robots[i];
+            if stopped && !r.in_contact {
+                r.collisions += 1;
+            }
+            r.in_contact = stopped;
+        }
+        self.time_s += dt;
+    }
+
+    /// Moves a robot to `pose` if its footprint is free there (teleport; used by cell-level
+    /// controllers and tests). Returns whether it moved.
+    pub fn try_place(&mut self, id: RobotId, pose: Pose2) -> bool {
+        let free = self.pose_is_free(&self.robots[id.0], pose);
+        if free {
+            let r = &mut self.robots[id.0];
+            r.distance_m += r.pose.position().distance(pose.position());
+            r.pose = pose;
+        }
+        free
+    }
+
+    /// Takes a 2-D laser scan from robot `id` into `scan` (buffer reused).
+    pub fn scan_laser(&mut self, id: RobotId, scan: &mut LaserScan) {
+        let floor = self.floor_z(self.robots[id.0].pose.position());
+        let r = &mut self.robots[id.0];
+        r.laser.scan_into(&self.world, r.pose, floor, &mut r.rng, scan);
+    }
+
+    pub fn read_thermal(&mut self, id: RobotId) -> Vec<HeatDetection> {
+        let floor = self.floor_z(self.robots[id.0].pose.position());
+        let r = &mut self.robots[id.0];
+        crate::sensors::read_thermal(&r.spec.thermal, &self.scene, &self.world, r.pose, floor, &mut r.rng)
+    }
+
+    pub fn read_depth(&mut self, id: RobotId) -> DepthImage {
+        let floor = self.floor_z(self.robots[id.0].pose.position());
+        let r = &mut self.robots[id.0];
+        crate::sensors::read_depth(&r.spec.depth, &self.world, r.pose, floor, &mut r.rng)
+    }
+
+    pub fn read_tilted_laser(&mut self, id: RobotId) -> TiltedScan {
+        let floor = self.floor_z(self.robots[id.0].pose.position());
+        let r = &mut self.robots[id.0];
+        crate::sensors::read_tilted_laser(&r.spec.tilted_laser, &self.world, r.pose, floor, &mut r.rng)
+    }
+
+    pub fn read_infrared(&mut self, id: RobotId) -> InfraredReading {
+        let floor = self.floor_z(self.robots[id.0].pose.position());
+        let r = &mut self.robots[id.0];
+        crate::sensors::read_infrared(&r.spec.infrared, &self.world, r.pose, floor, &mut r.rng)
+    }
+
+    pub fn read_attitude(&mut self, id: RobotId) -> Attitude {
+        let r = &mut self.robots[id.0];
+        crate::sensors::read_attitude(&self.world, r.pose, r.spec.length_m, r.spec.width_m, &r.spec.noise, &mut r.rng)
+    }
+}
+
+/// Separating-axis test of two robots' footprint rectangles.
+fn rectangles_overlap(a: Pose2, sa: &RobotSpec, b: Pose2, sb: &RobotSpec) -> bool {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let reach = sa.circumscribed_radius_m() + sb.circumscribed_radius_m();
+    if dx * dx + dy * dy > reach * reach {
+        return false;
+    }
+    let axes = |p: Pose2| {
+        let (s, c) = p.theta.sin_cos();
+        [(c, s), (-s, c)]
+    };
+    let half = |p: Pose2, spec: &RobotSpec, (ax, ay): (f64, f64)| {
+        let [(ux, uy), (vx, vy)] = axes(p);
+        spec.length_m / 2.0 * (ux * ax + uy * ay).abs() + spec.width_m / 2.0 * (vx * ax + vy * ay).abs()
+    };
+    axes(a).into_iter().chain(axes(b)).all(|axis| {
+        let distance = (dx * axis.0 + dy * axis.1).abs();
+        distance < half(a, sa, axis) + half(b, sb, axis)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use usar_world::{Cell, GridGeometry, Point2, obstacle};
+
+    fn walled_box() -> Arc<Scene> {
+        let g = GridGeometry::new(60, 40, 0.1, Point2::new(0.0, 0.0));
+        let mut s = Scene::empty("box", g);
+        for row in 0..40 {
+            s.obstacle[Cell::new(45, row)] = obstacle::WALL;
+        }
+        Arc::new(s)
+    }
+
+    #[test]
+    fn driving_into_a_wall_stops_and_counts_one_collision() {
+        let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
+        let id = sim.add_robot(RobotSpec::wheeled(), Pose2::new(2.0, 2.0, 0.0)).unwrap();
+        for _ in 0..100 {
+            sim.step(&[Velocity { linear_mps: 0.5, angular_radps: 0.0 }]);
+        }
+        let r = sim.robot(id);
+        assert_eq!(r.collisions, 1);
+        // Wall cell 45 spans x ∈ [4.5, 4.6): the front (x + 0.25) stops short of its centre 4.55.
+        assert!(r.pose.x + 0.25 < 4.55 && r.pose.x > 4.1, "{}", r.pose.x);
+    }
+
+    #[test]
+    fn robots_do_not_overlap() {
+        let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
+        sim.add_robot(RobotSpec::wheeled(), Pose2::new(1.0, 2.0, 0.0)).unwrap();
+        sim.add_robot(RobotSpec::wheeled(), Pose2::new(3.0, 2.0, std::f64::consts::PI)).unwrap();
+        assert!(sim.add_robot(RobotSpec::wheeled(), Pose2::new(3.1, 2.0, 0.0)).is_err());
+        for _ in 0..60 {
+            let go = Velocity { linear_mps: 0.5, angular_radps: 0.0 };
+            sim.step(&[go, go]);
+        }
+        let (a, b) = (sim.robots()[0].pose, sim.robots()[1].pose);
+        assert!(b.x - a.x >= 0.5 - 1e-9, "{} {}", a.x, b.x);
+        assert_eq!(sim.robots()[0].collisions, 1);
+    }
+}

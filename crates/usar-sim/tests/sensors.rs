@@ -1,0 +1,104 @@
+use proptest::prelude::*;
+use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
+use std::sync::Arc;
+use usar_sim::sensors::{LaserModel, LaserSpec, SensingWorld, ThermalSpec, read_thermal};
+use usar_sim::{RobotSpec, SimConfig, Simulation};
+use usar_world::{Cell, GridGeometry, HeatSource, Point2, Pose2, Scene, Victim, obstacle};
+
+fn random_scene(walls: &[(i32, i32)]) -> Scene {
+    let g = GridGeometry::new(40, 40, 0.1, Point2::new(0.0, 0.0));
+    let mut s = Scene::empty("random", g);
+    for &(c, r) in walls {
+        s.obstacle[Cell::new(c, r)] = obstacle::WALL;
+    }
+    s
+}
+
+proptest! {
+    /// A laser ray never passes through an occupied cell: every point of a beam before its
+    /// range lies on a free cell, and a returned range ends at an occupied one.
+    #[test]
+    fn laser_ray_never_passes_through_an_occupied_cell(
+        walls in proptest::collection::vec((0i32..40, 0i32..40), 0..200),
+        x in 0.05f64..3.95, y in 0.05f64..3.95, theta in -3.2f64..3.2,
+    ) {
+        let scene = random_scene(&walls);
+        let g = *scene.geometry();
+        prop_assume!(!scene.is_obstacle(g.world_to_cell(Point2::new(x, y))));
+        let world = SensingWorld::new(&scene);
+        let spec = LaserSpec { range_noise_sd_m: 0.0, max_range_m: 3.0, ..LaserSpec::default() };
+        let scan = LaserModel::new(spec).scan(&world, Pose2::new(x, y, theta), 0.0, &mut Pcg64Mcg::seed_from_u64(1));
+        for (i, &r) in scan.ranges_m.iter().enumerate() {
+            let a = scan.beam_angle(i);
+            let reach = if r.is_finite() { f64::from(r) } else { 3.0 };
+            for k in 0..200 {
+                let d = reach * k as f64 / 200.0;
+                let p = Point2::new(x, y).offset(a, d);
+                let cell = g.world_to_cell(p);
+                prop_assert!(!g.contains(cell) || !scene.is_obstacle(cell), "beam {i} crosses occupied {cell:?} at {d} < {r}");
+            }
+            if r.is_finite() {
+                let p = Point2::new(x, y).offset(a, f64::from(r) + 1e-6);
+                prop_assert!(scene.is_obstacle(g.world_to_cell(p)));
+            }
+        }
+    }
+}
+
+#[test]
+fn same_seed_gives_the_same_noisy_scan() {
+    let scene = Arc::new(random_scene(&[(30, 10), (10, 30)]));
+    let scan = |seed| {
+        let mut sim = Simulation::new(scene.clone(), SimConfig::default(), seed);
+        let id = sim.add_robot(RobotSpec::crawler(), Pose2::new(2.0, 2.0, 0.3)).unwrap();
+        let mut s = Default::default();
+        sim.scan_laser(id, &mut s);
+        s
+    };
+    assert_eq!(scan(5), scan(5));
+    assert_ne!(scan(5), scan(6));
+}
+
+#[test]
+fn thermal_camera_sees_victims_in_view_but_not_behind_walls_or_outside_the_band() {
+    let mut scene = random_scene(&[]);
+    for row in 0..40 {
+        scene.obstacle[Cell::new(30, row)] = obstacle::WALL;
+    }
+    let victim = |id, x: f64| Victim { id, position: Point2::new(x, 2.0), heat_c: 34.0, visible_size_m2: 0.5, buried_fraction: 0.2 };
+    scene.victims = vec![victim(1, 2.5), victim(2, 3.5)];
+    scene.heat_sources = vec![HeatSource { id: 1, position: Point2::new(2.0, 2.4), heat_c: 200.0, size_m2: 0.3, kind: "fire".into() }];
+    let world = SensingWorld::new(&scene);
+    let spec = ThermalSpec { temperature_noise_sd_c: 0.0, size_noise_fraction: 0.0, ..ThermalSpec::default() };
+    let seen = read_thermal(&spec, &scene, &world, Pose2::new(1.0, 2.0, 0.0), 0.0, &mut Pcg64Mcg::seed_from_u64(1));
+    // Victim 1 in view; victim 2 behind the wall at x = 3.0; the fire in view but too hot.
+    assert_eq!(seen.len(), 2, "{seen:?}");
+    assert!(seen[0].human_signature && (seen[0].size_m2 - 0.4).abs() < 1e-9);
+    assert!((seen[0].position(Pose2::new(1.0, 2.0, 0.0)).distance(Point2::new(2.5, 2.0))) < 1e-9);
+    assert!(!seen[1].human_signature);
+    // Facing away, nothing is seen.
+    let behind = read_thermal(&spec, &scene, &world, Pose2::new(1.0, 2.0, std::f64::consts::PI), 0.0, &mut Pcg64Mcg::seed_from_u64(1));
+    assert!(behind.is_empty());
+}
+
+#[test]
+fn infrared_and_depth_see_the_wall_beside_and_ahead() {
+    let mut scene = random_scene(&[]);
+    for col in 0..40 {
+        scene.obstacle[Cell::new(col, 25)] = obstacle::WALL;
+    }
+    let scene = Arc::new(scene);
+    let mut sim = Simulation::new(scene, SimConfig::default(), 3);
+    // Facing east, the wall at y = 2.5 is 0.5 m to the left.
+    let id = sim.add_robot(RobotSpec::crawler(), Pose2::new(2.0, 2.0, 0.0)).unwrap();
+    let ir = sim.read_infrared(id);
+    let left = ir.ranges_m[0].expect("wall on the left");
+    assert!((left - 0.5).abs() < 0.05, "{left}");
+    assert!(ir.ranges_m[4].is_none(), "nothing on the right");
+    // Facing north the depth array sees the wall: the top rows return short ranges.
+    let id2 = sim.add_robot(RobotSpec::crawler(), Pose2::new(1.0, 1.6, std::f64::consts::FRAC_PI_2)).unwrap();
+    let depth = sim.read_depth(id2);
+    let top = depth.point_body(0, depth.cols / 2).expect("a return");
+    assert!((top[0] - 0.9).abs() < 0.05, "wall 0.9 m ahead, got {top:?}");
+}
