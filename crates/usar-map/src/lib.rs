@@ -3,4 +3,9 @@
 //! candidate locations, grid A* (4- and 8-connected, octile, no corner cutting, inflated
 //! obstacles), a generic A* for graphs, and distance fields that price every goal at once.
 
+pub mod frontier;
+pub mod occupancy;
 pub mod planning;
+
+pub use self::frontier::{FrontierCluster, FrontierTracker};
+pub use self::occupancy::{CellClass, OccupancyGrid, OccupancyParams};

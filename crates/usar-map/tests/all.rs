@@ -1,3 +1,4 @@
 //! Integration tests of usar-map, one binary (see STYLE.md).
 
+mod frontier;
 mod planning;
