@@ -1,0 +1,51 @@
+use usar_plot::{Bar, BarChart, LineChart, Series};
+
+fn chart() -> LineChart {
+    let pts = |f: fn(f64) -> f64| (0..=20).map(|i| (i as f64 * 60.0, f(i as f64))).collect::<Vec<_>>();
+    LineChart {
+        title: "Explored relevant area".into(),
+        x_label: "time (s)".into(),
+        y_label: "area (m²)".into(),
+        series: vec![
+            Series::with_band("S-MCDM", pts(|t| 80.0 * t), vec![60.0; 21]),
+            Series::line("D-MCDM", pts(|t| 50.0 * t)),
+        ],
+        y_range: None,
+    }
+}
+
+#[test]
+fn line_chart_writes_a_png_with_text_and_an_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("a.png");
+    chart().save(&png).unwrap();
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (960, 600));
+    // The caption row is drawn with the embedded font: some dark pixels near the top centre.
+    let dark = (300..660).flat_map(|x| (5..40).map(move |y| (x, y))).filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100).count();
+    assert!(dark > 50, "caption text missing ({dark} dark pixels)");
+    if let Ok(dir) = std::env::var("USAR_PLOT_SAMPLE_DIR") {
+        chart().save(&std::path::Path::new(&dir).join("sample-line.png")).unwrap();
+    }
+    let svg = dir.path().join("a.svg");
+    chart().save(&svg).unwrap();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("<svg") && text.contains("S-MCDM"));
+}
+
+#[test]
+fn bar_chart_and_unknown_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let bars = BarChart {
+        title: "Steps to explore".into(),
+        y_label: "steps".into(),
+        bars: vec![Bar { label: "case 1".into(), value: 800.0, error: 50.0 }, Bar { label: "case 2".into(), value: 650.0, error: 80.0 }],
+    };
+    bars.save(&dir.path().join("b.png")).unwrap();
+    if let Ok(dir) = std::env::var("USAR_PLOT_SAMPLE_DIR") {
+        bars.save(&std::path::Path::new(&dir).join("sample-bar.png")).unwrap();
+    }
+    let err = bars.save(&dir.path().join("b.jpg")).unwrap_err().to_string();
+    assert!(err.contains("b.jpg") && err.contains(".png or .svg"), "{err}");
+    assert!(!dir.path().join("b.jpg").exists());
+}
