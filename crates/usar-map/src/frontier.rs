@@ -117,14 +117,21 @@ impl FrontierTracker {
     }
 
     /// Brings the frontier up to date with the cells whose class changed in `grid` since the
-    /// last update (drains the grid's change log): each changed cell and its 4-neighbours are
-    /// re-examined.
+    /// last update (drains the grid's change log).
     pub fn update(&mut self, grid: &mut OccupancyGrid) {
         let mut changed = std::mem::take(&mut self.changed);
         changed.clear();
         grid.drain_changed(&mut changed);
+        self.update_from(grid, &changed);
+        self.changed = changed;
+    }
+
+    /// Brings the frontier up to date given the cells whose class changed (for callers that
+    /// share one change log between several consumers): each changed cell and its
+    /// 4-neighbours are re-examined.
+    pub fn update_from(&mut self, grid: &OccupancyGrid, changed: &[u32]) {
         let w = self.width as usize;
-        for &i in &changed {
+        for &i in changed {
             let i = i as usize;
             let (c, r) = ((i % w) as i32, (i / w) as i32);
             self.refresh(grid, i);
@@ -135,7 +142,6 @@ impl FrontierTracker {
                 }
             }
         }
-        self.changed = changed;
     }
 
     /// Groups frontier cells into 8-connected clusters of at least `min_cells` cells, in order

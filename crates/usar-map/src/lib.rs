@@ -4,8 +4,10 @@
 //! obstacles), a generic A* for graphs, and distance fields that price every goal at once.
 
 pub mod frontier;
+pub mod navigable;
 pub mod occupancy;
 pub mod planning;
 
 pub use self::frontier::{FrontierCluster, FrontierTracker};
+pub use self::navigable::NavigableMap;
 pub use self::occupancy::{CellClass, OccupancyGrid, OccupancyParams};

@@ -1,0 +1,256 @@
+//! Command-line arguments.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// usar — semi-autonomous robotic urban search and rescue: scenes, robots, maps, planners,
+/// exploration.
+///
+/// SCENE arguments accept a usar scene file (.json), a ROS map_server map (.yaml), a bare map
+/// image (.pgm/.png, with --resolution), a MovingAI map (.map), or the name of a generator
+/// (rubble, office, mall, course) used with --seed.
+///
+/// Exit codes: 0 success, 1 internal failure, 2 bad input (the message names the file and the
+/// problem).
+#[derive(Debug, Parser)]
+#[command(name = "usar", version, about, long_about, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Generate, import, export, render and describe scenes.
+    #[command(subcommand)]
+    Scene(SceneCommand),
+    /// Plan paths: check a MovingAI scenario file, or plan from A to B on a scene.
+    Plan(PlanArgs),
+    /// Explore a scene with a team of wheeled robots going to their nearest frontiers.
+    Explore(ExploreArgs),
+    /// Run the main job on built-in defaults: a team explores a generated office floor with
+    /// victims; writes a report folder (map, coverage over time, victims, summary.json).
+    Demo(DemoArgs),
+    /// Measure the speed of the hot loops (laser scans, A*, distance fields, frontiers).
+    Bench(BenchArgs),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum SceneCommand {
+    /// Generate a scene with a seeded generator (the same seed gives the same file).
+    Gen(SceneGenArgs),
+    /// Import a map made elsewhere (ROS map_server YAML, bare PGM/PNG, MovingAI .map).
+    Import(SceneImportArgs),
+    /// Export a scene as a ROS map_server map (YAML + PGM) or a PNG rendering.
+    Export(SceneExportArgs),
+    /// Render a scene to PNG: walls, floor heights, room labels, victims, start poses.
+    Show(SceneShowArgs),
+    /// Describe a scene: size, rooms and labels, doors, victims, junctions, reachable area.
+    Info(SceneInfoArgs),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GeneratorKind {
+    /// Paper 000 rubble arena: 20×20 cells of 0.84 m², dense rubble, 7–8 victims.
+    Rubble,
+    /// Paper 002 office floor: corridors, mostly small and medium rooms.
+    Office,
+    /// Paper 002 mall floor: wide galleries, a few very big rooms.
+    Mall,
+    /// Paper 004 test course: passages, junctions, a hall, a slope and stairs.
+    Course,
+}
+
+#[derive(Debug, Args)]
+pub struct SceneGenArgs {
+    pub kind: GeneratorKind,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output scene file (.json).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Print a JSON summary instead of a line of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// How to read a map image.
+#[derive(Debug, Args, Clone)]
+pub struct ImageArgs {
+    /// Metres per pixel of a bare PGM/PNG map (required for bare images; ROS YAML files carry
+    /// their own).
+    #[arg(long)]
+    pub resolution: Option<f64>,
+    /// Dark pixels are free instead of occupied (ROS `negate: 1`).
+    #[arg(long)]
+    pub negate: bool,
+    /// Occupancy above which a pixel is occupied (ROS default 0.65).
+    #[arg(long, default_value_t = 0.65)]
+    pub occupied_thresh: f64,
+    /// Occupancy below which a pixel is free (ROS default 0.196).
+    #[arg(long, default_value_t = 0.196)]
+    pub free_thresh: f64,
+}
+
+#[derive(Debug, Args)]
+pub struct SceneImportArgs {
+    /// The map to import: .yaml (ROS map_server), .pgm/.png (bare image), .map (MovingAI).
+    pub input: PathBuf,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Output scene file (.json).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SceneExportArgs {
+    /// The scene (file, map or generator name).
+    pub scene: String,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Write a ROS map_server map: this YAML and a PGM beside it.
+    #[arg(long)]
+    pub ros: Option<PathBuf>,
+    /// Write a PNG rendering.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Write the scene in the usar scene format (.json).
+    #[arg(long)]
+    pub scene_file: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SceneShowArgs {
+    pub scene: String,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Output PNG file.
+    #[arg(long)]
+    pub png: PathBuf,
+    /// Pixels per grid cell (default: fit the image in 1600 px).
+    #[arg(long)]
+    pub px_per_cell: Option<u32>,
+    /// Draw ground-truth junctions.
+    #[arg(long)]
+    pub ground_truth: bool,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SceneInfoArgs {
+    pub scene: String,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ConnectivityArg {
+    #[value(name = "4")]
+    Four,
+    #[value(name = "8")]
+    Eight,
+}
+
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// A MovingAI .scen file: plan every scenario (8-connected, no corner cutting) and compare
+    /// with the published optimal lengths (tolerance 1e-3).
+    #[arg(long, conflicts_with_all = ["scene", "from", "to"])]
+    pub scen: Option<PathBuf>,
+    /// A scene to plan on (with --from and --to).
+    #[arg(long, requires_all = ["from", "to"])]
+    pub scene: Option<String>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Start point "x,y" in metres.
+    #[arg(long, value_parser = parse_point)]
+    pub from: Option<(f64, f64)>,
+    /// Goal point "x,y" in metres.
+    #[arg(long, value_parser = parse_point)]
+    pub to: Option<(f64, f64)>,
+    /// Robot model whose size inflates the obstacles and whose climbing limits apply: crawler,
+    /// wheeled, or a robot TOML file.
+    #[arg(long, default_value = "wheeled")]
+    pub robot: String,
+    #[arg(long, value_enum, default_value_t = ConnectivityArg::Eight)]
+    pub connectivity: ConnectivityArg,
+    /// Draw the path over the scene into this PNG.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_point(s: &str) -> Result<(f64, f64), String> {
+    let (x, y) = s.split_once(',').ok_or_else(|| format!("expected \"x,y\" in metres, found {s:?}"))?;
+    let parse = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("expected a number, found {v:?} in {s:?}"));
+    Ok((parse(x)?, parse(y)?))
+}
+
+#[derive(Debug, Args)]
+pub struct ExploreArgs {
+    /// The scene (file, map or generator name).
+    #[arg(long, default_value = "office")]
+    pub scene: String,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Number of robots (the scene needs as many start poses).
+    #[arg(long, default_value_t = 4)]
+    pub robots: usize,
+    /// Seed of the run (and of the generator when --scene names one).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Robot model: crawler, wheeled, or a robot TOML file.
+    #[arg(long, default_value = "wheeled")]
+    pub robot: String,
+    /// Simulated time limit, minutes.
+    #[arg(long, default_value_t = 20.0)]
+    pub minutes: f64,
+    /// Stop once this fraction of the reachable area is known.
+    #[arg(long)]
+    pub stop_at_coverage: Option<f64>,
+    /// Write a report folder (map, coverage CSV and plot, summary.json) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the outcome as JSON (no progress bar).
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Report folder.
+    #[arg(long, default_value = "out/demo")]
+    pub out: PathBuf,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the summary as JSON (no progress bar).
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Fewer repetitions (a quick look, noisier).
+    #[arg(long)]
+    pub quick: bool,
+    /// Print one JSON object with every figure.
+    #[arg(long)]
+    pub json: bool,
+}

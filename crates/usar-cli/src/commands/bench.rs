@@ -1,0 +1,186 @@
+//! `usar bench`: speed of the hot loops on a 1000 × 1000 building grid (a generated 100 m ×
+//! 100 m office at 0.1 m), single-threaded. Each figure is the median of repeated runs.
+
+use super::print_json;
+use crate::cli::BenchArgs;
+use crate::failure::CmdResult;
+use crate::progress;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use serde::Serialize;
+use std::time::Instant;
+use usar_map::planning::{Connectivity, DistanceField, GridAStar, NavGrid, inflate};
+use usar_map::{FrontierTracker, OccupancyGrid, OccupancyParams};
+use usar_sim::RobotSpec;
+use usar_sim::sensors::{LaserModel, LaserScan, LaserSpec, SensingWorld};
+use usar_world::generate::{BuildingParams, generate_office};
+use usar_world::{Cell, Pose2, Scene};
+
+#[derive(Serialize)]
+struct BenchReport {
+    grid: String,
+    lidar_scans_per_s: f64,
+    astar4_ms: f64,
+    astar4_expanded: usize,
+    astar8_ms: f64,
+    astar8_expanded: usize,
+    path_length_m: f64,
+    distance_field_ms: f64,
+    distance_field4_ms: f64,
+    frontier_update_ms: f64,
+    frontier_clusters_ms: f64,
+    targets: serde_json::Value,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn time_ms(f: impl FnOnce()) -> f64 {
+    let t = Instant::now();
+    f();
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// The benchmark floor: a seeded 100 m × 100 m office.
+pub fn bench_scene() -> Scene {
+    generate_office(1, &BuildingParams { width_m: 100.0, height_m: 100.0, ..BuildingParams::office() })
+}
+
+/// Free poses spread over the scene, drawn with a fixed seed.
+fn free_poses(scene: &Scene, n: usize) -> Vec<Pose2> {
+    let g = scene.geometry();
+    let mut rng = Pcg64Mcg::seed_from_u64(42);
+    let mut poses = Vec::with_capacity(n);
+    while poses.len() < n {
+        let c = Cell::new(rng.random_range(0..g.width as i32), rng.random_range(0..g.height as i32));
+        if !scene.is_obstacle(c) {
+            let p = g.cell_center(c);
+            poses.push(Pose2::new(p.x, p.y, rng.random_range(-3.1..3.1)));
+        }
+    }
+    poses
+}
+
+/// Opposite corners: the free cells nearest the lower-left and the upper-right corners.
+fn corners(grid: &NavGrid) -> (Cell, Cell) {
+    let g = *grid.geometry();
+    let nearest = |target: Cell| {
+        (0..g.len())
+            .map(|i| g.cell_of_index(i))
+            .filter(|&c| grid.is_passable(c))
+            .min_by_key(|&c| ((c.col - target.col).pow(2) + (c.row - target.row).pow(2), c))
+            .expect("a passable cell")
+    };
+    (nearest(Cell::new(0, 0)), nearest(Cell::new(g.width as i32 - 1, g.height as i32 - 1)))
+}
+
+pub fn run(args: BenchArgs) -> CmdResult {
+    let reps = if args.quick { 3 } else { 11 };
+    let bar = progress::bar(5, "benchmarking", args.json);
+    let scene = bench_scene();
+    let g = *scene.geometry();
+
+    // Laser scans with the free-space update of an occupancy grid.
+    let world = SensingWorld::new(&scene);
+    let laser = LaserModel::new(LaserSpec::default());
+    let poses = free_poses(&scene, 500);
+    let mut rng = Pcg64Mcg::seed_from_u64(7);
+    let mut grid = OccupancyGrid::new(g, OccupancyParams::default());
+    let mut scan = LaserScan::default();
+    let scans_per_rep = if args.quick { 2_000 } else { 10_000 };
+    let rates: Vec<f64> = (0..reps.min(5))
+        .map(|_| {
+            let t = Instant::now();
+            for k in 0..scans_per_rep {
+                laser.scan_into(&world, poses[k % poses.len()], 0.0, &mut rng, &mut scan);
+                grid.integrate_scan(&scan);
+            }
+            scans_per_rep as f64 / t.elapsed().as_secs_f64()
+        })
+        .collect();
+    let lidar_scans_per_s = median(rates);
+    bar.inc(1);
+
+    // A* and distance fields on the floor inflated for a wheeled robot.
+    let blocked = inflate(&scene.obstacle.map(|&o| o != 0), RobotSpec::wheeled().circumscribed_radius_m());
+    let nav = NavGrid::from_blocked(&blocked);
+    let (start, goal) = corners(&nav);
+    let mut astar = GridAStar::new();
+    let mut path_length_m = 0.0;
+    let mut plan = |conn| {
+        let mut expanded = 0;
+        let ms = median(
+            (0..reps)
+                .map(|_| {
+                    time_ms(|| {
+                        let p = astar.plan(&nav, start, goal, conn).expect("corners are connected");
+                        path_length_m = p.length_m(g.resolution_m);
+                    })
+                })
+                .collect(),
+        );
+        expanded = expanded.max(astar.expanded());
+        (ms, expanded)
+    };
+    let (astar4_ms, astar4_expanded) = plan(Connectivity::Four);
+    let (astar8_ms, astar8_expanded) = plan(Connectivity::Eight);
+    bar.inc(1);
+    let mut field = DistanceField::new();
+    let distance_field_ms = median((0..reps).map(|_| time_ms(|| field.compute(&nav, &[start], Connectivity::Eight))).collect());
+    let distance_field4_ms = median((0..reps).map(|_| time_ms(|| field.compute(&nav, &[start], Connectivity::Four))).collect());
+    bar.inc(1);
+
+    // Incremental frontier update after one scan, along a walk through the floor.
+    let mut grid = OccupancyGrid::new(g, OccupancyParams::default());
+    let mut tracker = FrontierTracker::new(&grid);
+    let walk = free_poses(&scene, 400);
+    let mut updates = Vec::with_capacity(walk.len());
+    let mut clusters = Vec::new();
+    for (k, &pose) in walk.iter().enumerate() {
+        laser.scan_into(&world, pose, 0.0, &mut rng, &mut scan);
+        grid.integrate_scan(&scan);
+        updates.push(time_ms(|| tracker.update(&mut grid)));
+        if k % 20 == 0 {
+            clusters.push(time_ms(|| {
+                tracker.clusters(&grid, 3);
+            }));
+        }
+    }
+    let frontier_update_ms = median(updates);
+    let frontier_clusters_ms = median(clusters);
+    bar.inc(2);
+    bar.finish_and_clear();
+
+    let report = BenchReport {
+        grid: format!("office 100 x 100 m at {} m ({} x {} cells), inflated by the wheeled robot's radius", g.resolution_m, g.width, g.height),
+        lidar_scans_per_s,
+        astar4_ms,
+        astar4_expanded,
+        astar8_ms,
+        astar8_expanded,
+        path_length_m,
+        distance_field_ms,
+        distance_field4_ms,
+        frontier_update_ms,
+        frontier_clusters_ms,
+        targets: serde_json::json!({
+            "lidar_scans_per_s": ">= 20000", "astar4_ms": "<= 10", "astar8_ms": "<= 10",
+            "distance_field_ms": "<= 10", "frontier_update_ms": "<= 0.3"
+        }),
+    };
+    if args.json {
+        print_json(&report)
+    } else {
+        println!("{}", report.grid);
+        println!("  laser scans + occupancy update  {:>10.0} scans/s   (target ≥ 20 000)", report.lidar_scans_per_s);
+        println!("  A* 4-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)", report.astar4_ms, report.astar4_expanded);
+        println!("  A* 8-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)", report.astar8_ms, report.astar8_expanded);
+        println!("  distance field, 8-connected     {:>10.2} ms       (target ≤ 10)", report.distance_field_ms);
+        println!("  distance field, 4-connected     {:>10.2} ms", report.distance_field4_ms);
+        println!("  frontier update after one scan  {:>10.3} ms       (target ≤ 0.3)", report.frontier_update_ms);
+        println!("  frontier clustering             {:>10.3} ms", report.frontier_clusters_ms);
+        Ok(())
+    }
+}

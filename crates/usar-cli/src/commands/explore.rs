@@ -1,0 +1,61 @@
+//! `usar explore`: a team of robots explores a scene, each going to its nearest frontier.
+
+use super::print_json;
+use crate::cli::ExploreArgs;
+use crate::failure::{CmdResult, InputContext, bad_input};
+use crate::{progress, scene_source};
+use std::sync::Arc;
+use usar_team::{TeamConfig, TeamMission, TeamOutcome};
+use usar_world::Scene;
+
+/// Runs one mission with a progress bar (hidden when `quiet`).
+pub fn run_mission(scene: Arc<Scene>, config: TeamConfig, seed: u64, quiet: bool) -> CmdResult<TeamOutcome> {
+    let total = config.duration_s;
+    let mission = TeamMission::new(scene, config, seed).input()?;
+    let bar = progress::bar(total.round() as u64, "exploring", quiet);
+    let outcome = mission.run(|t| bar.set_position(t.round() as u64));
+    bar.finish_and_clear();
+    Ok(outcome)
+}
+
+pub fn run(args: ExploreArgs) -> CmdResult {
+    if !(args.minutes.is_finite() && args.minutes > 0.0) {
+        return Err(bad_input(anyhow::anyhow!("--minutes: found {}, expected a positive number", args.minutes)));
+    }
+    if let Some(c) = args.stop_at_coverage
+        && !(0.0..=1.0).contains(&c)
+    {
+        return Err(bad_input(anyhow::anyhow!("--stop-at-coverage: found {c}, expected a fraction in [0, 1]")));
+    }
+    let scene = Arc::new(scene_source::load(&args.scene, args.seed, &args.image)?);
+    let config = TeamConfig {
+        robots: args.robots,
+        robot: scene_source::load_robot(&args.robot)?,
+        duration_s: args.minutes * 60.0,
+        stop_at_coverage: args.stop_at_coverage,
+        ..TeamConfig::default()
+    };
+    let outcome = run_mission(scene.clone(), config, args.seed, args.json)?;
+    if let Some(dir) = &args.out {
+        usar_team::report::write_report(dir, &scene, &outcome, serde_json::json!({ "seed": args.seed })).input()?;
+    }
+    if args.json {
+        print_json(&outcome)
+    } else {
+        println!(
+            "{}: {} robots, {:.0} s, coverage {:.1} % ({:.0} of {:.0} m²), victims seen {}/{}, {:.0} m driven, {} collisions ({:?})",
+            outcome.scene,
+            outcome.robots,
+            outcome.time_s,
+            outcome.coverage * 100.0,
+            outcome.explored_area_m2,
+            outcome.reachable_area_m2,
+            outcome.victims_seen,
+            outcome.victims_total,
+            outcome.distance_m,
+            outcome.collisions,
+            outcome.finish
+        );
+        Ok(())
+    }
+}

@@ -1,0 +1,27 @@
+//! One module per command; each turns parsed arguments into library calls and prints the result
+//! (text, or JSON with `--json`).
+
+mod bench;
+mod demo;
+mod explore;
+mod plan;
+mod scene;
+
+use crate::cli::{Cli, Command};
+use crate::failure::CmdResult;
+
+pub fn run(cli: Cli) -> CmdResult {
+    match cli.command {
+        Command::Scene(cmd) => scene::run(cmd),
+        Command::Plan(args) => plan::run(args),
+        Command::Explore(args) => explore::run(args),
+        Command::Demo(args) => demo::run(args),
+        Command::Bench(args) => bench::run(args),
+    }
+}
+
+/// Prints a value as pretty JSON on stdout.
+pub fn print_json(value: &impl serde::Serialize) -> CmdResult {
+    println!("{}", serde_json::to_string_pretty(value)?);
+    Ok(())
+}

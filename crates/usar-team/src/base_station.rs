@@ -1,0 +1,42 @@
+//! The base station (paper 002 §4.1): merges the robots' occupancy grids every few seconds and
+//! keeps, on the merged map, the frontier, the navigable space for the team's robot size and
+//! the coverage count, all updated from one log of class changes.
+
+use crate::coverage::CoverageCounter;
+use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
+use usar_world::Scene;
+
+pub struct BaseStation {
+    pub merged: OccupancyGrid,
+    pub frontiers: FrontierTracker,
+    pub navigable: NavigableMap,
+    pub coverage: CoverageCounter,
+    changed: Vec<u32>,
+}
+
+impl BaseStation {
+    pub fn new(scene: &Scene, params: OccupancyParams, robot_radius_m: f64, start: usar_world::Point2) -> Self {
+        let merged = OccupancyGrid::new(*scene.geometry(), params);
+        Self {
+            frontiers: FrontierTracker::new(&merged),
+            navigable: NavigableMap::new(&merged, robot_radius_m),
+            coverage: CoverageCounter::new(scene, start),
+            merged,
+            changed: Vec::new(),
+        }
+    }
+
+    /// Merges the robots' grids into the team map and updates everything derived from it.
+    pub fn merge(&mut self, robot_maps: &mut [&mut OccupancyGrid]) {
+        self.merged.merge_from(robot_maps);
+        self.changed.clear();
+        self.merged.drain_changed(&mut self.changed);
+        self.frontiers.update_from(&self.merged, &self.changed);
+        self.navigable.update_from(&self.merged, &self.changed);
+        self.coverage.update_from(&self.merged, &self.changed);
+    }
+
+    pub fn clusters(&mut self, min_cells: usize) -> Vec<FrontierCluster> {
+        self.frontiers.clusters(&self.merged, min_cells)
+    }
+}
