@@ -36,7 +36,8 @@ pub(crate) fn check_geometry(g: &GridGeometry, path: &Path) -> Result<()> {
 }
 
 fn check_point(p: Point2, g: &GridGeometry, field: &str, path: &Path) -> Result<()> {
-    if !(p.x.is_finite() && p.y.is_finite()) || !g.contains(g.world_to_cell(p)) {
+    let inside = p.x.is_finite() && p.y.is_finite() && g.contains(g.world_to_cell(p));
+    if !inside {
         let (w, h) = g.extent_m();
         return Err(WorldError::invalid(
             path,
