@@ -12,7 +12,7 @@ mod rubble;
 
 pub use self::building::{BuildingParams, generate_mall, generate_office};
 pub use self::course::{CourseParams, generate_course};
-pub use self::rubble::{RubbleParams, generate_rubble};
+pub use self::rubble::{ClassShares, RubbleParams, RubbleStyle, RubbleTerrain, generate_rubble};
 
 use crate::scene::Scene;
 
