@@ -22,11 +22,13 @@
 //! assert!((sim.robot(robot).pose.x - 5.05).abs() < 1e-9);
 //! ```
 
+mod cell_robot;
 mod robot;
 pub mod sensors;
 mod simulation;
 mod traversability;
 
+pub use self::cell_robot::{CellAction, CellOutcome, CellRobot, RotationStep};
 pub use self::robot::{Locomotion, RobotSpec};
 pub use self::simulation::{PlacementError, RobotId, SimConfig, SimRobot, Simulation, Velocity, derive_seed};
 pub use self::traversability::{compute_blocked, footprint_cells};
