@@ -419,8 +419,9 @@ impl BuildingParams {
         Ok(())
     }
 
-    /// The parameters with every field clamped into the range [`BuildingParams::check`] accepts
-    /// (non-finite values fall back to the office default), so that generation never panics.
+    /// The parameters with every field clamped into the range [`BuildingParams::check`] accepts,
+    /// so that generation never panics. Non-finite values fall back to the default of the floor
+    /// whose label shares the parameters carry (the mall's for Table 3, else the office's).
     pub(super) fn sanitized(&self) -> BuildingParams {
         let d = if self.label_shares == LabelShares::MALL_TABLE_3 {
             Self::mall()

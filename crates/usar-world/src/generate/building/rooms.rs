@@ -4,10 +4,13 @@
 //! Big rooms are placed first (through rooms spanning both rows of a band, opening onto both of
 //! its corridors, or long single-row halls) until their area reaches the big-room share of the
 //! estimated room area. The rest of every row is then filled from west to east, each new room
-//! taking the label (small or medium) that is furthest behind its share. A row too deep for a
-//! small room gets small rooms by splitting a slot into a front room and a back room reached
-//! through it. Labels come from the rooms' areas ([`crate::RoomLabel::for_room_area`]), so a room
-//! stretched to fill the end of a row is counted under the label it ends up with.
+//! taking the label (small or medium) that is furthest behind its share; the last one or two
+//! slots of a row are chosen among all splits of what is left so that the balance comes closest
+//! to its target. A row too deep for a small room gets small rooms by splitting a slot into a
+//! front room and a back room reached through it. Labels come from the rooms' areas
+//! ([`crate::RoomLabel::for_room_area`]), so every room is counted under the label it ends up
+//! with; rooms just below a threshold are avoided (their door openings could lift them over it)
+//! and the furniture never takes a room below its label's lower threshold.
 
 use super::layout::{CellRect, CellScale, Side, Skeleton};
 use super::params::BuildingParams;
