@@ -50,7 +50,7 @@ pub fn load(spec: &str, seed: u64, image: &ImageArgs) -> CmdResult<Scene> {
         "map" => {
             let map = usar_world::io::movingai::read_movingai_map(path).input()?;
             let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-            Ok(map.to_scene(&name, image.resolution.unwrap_or(1.0)))
+            map.to_scene(&name, image.resolution.unwrap_or(1.0)).input()
         }
         _ if !path.exists() => Err(bad_input(anyhow::anyhow!(
             "{spec}: no such file, and not a generator name (expected rubble, office, mall or course)"

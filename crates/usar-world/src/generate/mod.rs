@@ -10,7 +10,7 @@ mod course;
 pub mod draw;
 mod rubble;
 
-pub use self::building::{BuildingParams, generate_mall, generate_office};
+pub use self::building::{AreaRange, BuildingParams, LabelShares, LengthRange, generate_mall, generate_office};
 pub use self::course::{CourseParams, generate_course};
 pub use self::rubble::{ClassShares, RubbleParams, RubbleStyle, RubbleTerrain, generate_rubble};
 

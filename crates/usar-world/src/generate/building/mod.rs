@@ -32,7 +32,6 @@ mod rooms;
 
 // `AreaRange`, `LabelShares` and `LengthRange` are the types of public fields of
 // `BuildingParams`; `generate/mod.rs` re-exports them next to it.
-#[allow(unused_imports)]
 pub use self::params::{AreaRange, BuildingParams, LabelShares, LengthRange};
 
 use self::layout::{CellRect, CellScale, Skeleton};

@@ -1,0 +1,94 @@
+//! Times the grid planners on a synthetic 1000×1000 building floor (100 m × 100 m at 0.1 m,
+//! inflated by 0.3 m), corner to corner, and on the MovingAI scenario files.
+//!
+//! `cargo run --release -p usar-map --example planning_speed [-- SEED [MOVINGAI_DIR]]`
+//! (the scenario files are checked only when MOVINGAI_DIR is given).
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+use usar_map::planning::bench_grid::{
+    BENCH_INFLATION_M, corner_cells, synthetic_building_walls,
+};
+use usar_map::planning::{
+    Connectivity, DistanceField, GridAStar, NavGrid, check_scenarios, inflate,
+};
+
+const RUNS: usize = 15;
+
+/// Median and minimum of `RUNS` timings of `f`, milliseconds.
+fn time<T>(mut f: impl FnMut() -> T) -> (f64, f64, T) {
+    let mut times: Vec<Duration> = Vec::new();
+    let mut last = None;
+    for _ in 0..RUNS {
+        let t = Instant::now();
+        let out = f();
+        times.push(t.elapsed());
+        last = Some(out);
+    }
+    times.sort();
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    (ms(times[RUNS / 2]), ms(times[0]), last.expect("RUNS > 0"))
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let seed: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(1);
+    let dir = args.next().map(PathBuf::from);
+
+    let walls = synthetic_building_walls(1000, 1000, seed);
+    let (median, min, blocked) = time(|| inflate(&walls, BENCH_INFLATION_M));
+    let blocked_share = blocked.as_slice().iter().filter(|&&b| b).count() as f64 / 1e6;
+    println!("synthetic building 1000x1000, seed {seed}: {:.1}% blocked after inflation", 100.0 * blocked_share);
+    println!("inflate 0.3 m (3 cells):            median {median:7.2} ms  min {min:7.2} ms");
+    let (median, min, _) = time(|| inflate(&walls, 0.5));
+    println!("inflate 0.5 m (5 cells):            median {median:7.2} ms  min {min:7.2} ms");
+    let (median, min, grid) = time(|| NavGrid::from_blocked(&blocked));
+    println!("NavGrid::from_blocked:              median {median:7.2} ms  min {min:7.2} ms");
+
+    let (start, goal) = corner_cells(&blocked).expect("a free cell");
+    println!("corner to corner: {start:?} -> {goal:?}");
+    let mut astar = GridAStar::new();
+    for connectivity in [Connectivity::Four, Connectivity::Eight] {
+        let (median, min, path) = time(|| astar.plan(&grid, start, goal, connectivity));
+        let path = path.expect("the floor is connected");
+        println!(
+            "GridAStar {connectivity:?}:  median {median:7.2} ms  min {min:7.2} ms  expanded {:>7}  length {:.3} cells",
+            astar.expanded(),
+            path.length_cells
+        );
+    }
+    let mut field = DistanceField::new();
+    for connectivity in [Connectivity::Four, Connectivity::Eight] {
+        let (median, min, _) = time(|| field.compute(&grid, &[start], connectivity));
+        let mut check = GridAStar::new();
+        let a = check.plan(&grid, start, goal, connectivity).map(|p| p.length_cells);
+        println!(
+            "DistanceField {connectivity:?}: median {median:7.2} ms  min {min:7.2} ms  reached {:>7}  to goal {:.6} (A* {:.6})",
+            field.reached_count(),
+            field.distance_cells(goal).unwrap_or(f64::NAN),
+            a.unwrap_or(f64::NAN)
+        );
+    }
+
+    let Some(dir) = dir else { return };
+    let mut scen: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    scen.retain(|p| p.extension().is_some_and(|e| e == "scen"));
+    scen.sort();
+    for path in scen {
+        let t = Instant::now();
+        match check_scenarios(&path) {
+            Ok(r) => println!(
+                "{}: {}/{} matched, max error {:.2e}, {} expanded, {:.0} ms",
+                path.display(),
+                r.matched,
+                r.scenarios,
+                r.max_abs_error,
+                r.total_expanded,
+                t.elapsed().as_secs_f64() * 1e3
+            ),
+            Err(e) => println!("{e}"),
+        }
+    }
+}

@@ -1,0 +1,328 @@
+//! A distance field: one multi-source search that prices every cell at once (the distance to the
+//! nearest source, e.g. a robot, or a frontier), with the path back to that source.
+//!
+//! Both connectivities are *exact* Dijkstra searches in O(cells), with no priority queue:
+//! every edge costs either 1 (straight) or √2 (diagonal), so the search keeps one FIFO queue per
+//! edge cost. A cell settled at distance d pushes its neighbours with keys d + 1 and d + √2 onto
+//! the two queues; since cells are settled in non-decreasing d, each queue receives
+//! non-decreasing keys and is therefore sorted, and the least open key is the smaller of the two
+//! queue heads. This is Dijkstra's algorithm with a monotone multi-queue (the "few distinct edge
+//! lengths" case of Dial 1969 / Ahuja, Mehlhorn, Orlin & Tarjan 1990), so no fixed-point rounding
+//! is needed: the distances are the same f64 sums of 1 and √2 that [`super::GridAStar`]
+//! computes, equal to A*'s lengths up to the rounding of the summation order (< 1e-9 cells on
+//! any grid below 10⁶ cells a side). With [`Connectivity::Four`] only one queue is used and the
+//! search is a breadth-first search with unit costs.
+//!
+//! Diagonal moves follow the same rule as A*: only when both orthogonal cells are passable.
+
+use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath};
+use super::nav_grid::{NavGrid, PASSABLE};
+use std::collections::VecDeque;
+use usar_world::{Cell, Grid, GridGeometry, Point2};
+
+/// Parent of a source cell and of unreached cells.
+const NO_PARENT: u32 = u32::MAX;
+
+/// Search state of a cell: passable and not reached yet. The state buffer starts as a copy of
+/// the grid, so blocked cells hold 0 and free ones this value.
+const UNREACHED: u8 = PASSABLE;
+/// Search state of a cell: reached, its distance may still fall ([`Connectivity::Eight`]).
+const OPEN: u8 = 2;
+/// Search state of a cell: its distance is final.
+const SETTLED: u8 = 3;
+
+/// What the search learnt about one cell, 16 bytes so that a relaxation writes one cache line.
+#[derive(Clone, Copy, Debug)]
+struct FieldNode {
+    /// Distance to the nearest source, cells.
+    distance: f64,
+    /// Padded index of the next cell toward the source; [`NO_PARENT`] at sources.
+    parent: u32,
+    /// Index into `sources` of the source the cell is priced from.
+    source: u32,
+}
+
+const UNSET: FieldNode = FieldNode { distance: f64::INFINITY, parent: NO_PARENT, source: 0 };
+
+/// Distances from a set of source cells to every cell of a [`NavGrid`].
+///
+/// The buffers are kept between [`DistanceField::compute`] calls: recomputing on a grid of the
+/// same size allocates nothing.
+#[derive(Clone, Debug)]
+pub struct DistanceField {
+    geometry: GridGeometry,
+    stride: usize,
+    connectivity: Connectivity,
+    /// Per padded cell; meaningful where `state` is [`SETTLED`].
+    nodes: Vec<FieldNode>,
+    /// 0 (blocked), [`UNREACHED`], [`OPEN`] or [`SETTLED`] per padded cell.
+    state: Vec<u8>,
+    /// The passable sources, in the order given.
+    sources: Vec<Cell>,
+    /// Breadth-first queue ([`Connectivity::Four`]).
+    frontier: VecDeque<u32>,
+    /// Cells opened by a straight move, with their distance (sorted by it).
+    straight_queue: VecDeque<(f64, u32)>,
+    /// Cells opened by a diagonal move, with their distance (sorted by it).
+    diagonal_queue: VecDeque<(f64, u32)>,
+    reached: usize,
+}
+
+impl Default for DistanceField {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl DistanceField {
+    /// An empty field (no cell reachable) with no buffers yet.
+    pub fn new() -> Self {
+        Self {
+            geometry: GridGeometry::new(0, 0, 1.0, Point2::new(0.0, 0.0)),
+            stride: 2,
+            connectivity: Connectivity::Four,
+            nodes: Vec::new(),
+            state: Vec::new(),
+            frontier: VecDeque::new(),
+            sources: Vec::new(),
+            straight_queue: VecDeque::new(),
+            diagonal_queue: VecDeque::new(),
+            reached: 0,
+        }
+    }
+
+    /// Prices every cell of `grid` by its distance to the nearest of `sources`.
+    ///
+    /// Sources that are blocked or outside the grid are ignored; with no usable source every cell
+    /// is unreachable. Ties between sources at equal distance go to the one listed first among
+    /// those reaching the cell first (deterministic).
+    pub fn compute(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
+        let len = grid.cells().len();
+        self.geometry = *grid.geometry();
+        self.stride = grid.stride();
+        self.connectivity = connectivity;
+        self.state.clear();
+        self.state.extend_from_slice(grid.cells());
+        if self.nodes.len() < len {
+            self.nodes.resize(len, UNSET);
+        }
+        self.sources.clear();
+        self.frontier.clear();
+        self.straight_queue.clear();
+        self.diagonal_queue.clear();
+        self.reached = 0;
+
+        for &s in sources {
+            if !grid.is_passable(s) {
+                continue;
+            }
+            let i = grid.padded_index(s);
+            if self.state[i] != UNREACHED {
+                continue;
+            }
+            self.state[i] = match connectivity {
+                Connectivity::Four => SETTLED,
+                Connectivity::Eight => OPEN,
+            };
+            self.nodes[i] =
+                FieldNode { distance: 0.0, parent: NO_PARENT, source: self.sources.len() as u32 };
+            self.sources.push(s);
+            match connectivity {
+                Connectivity::Four => self.frontier.push_back(i as u32),
+                Connectivity::Eight => self.straight_queue.push_back((0.0, i as u32)),
+            }
+        }
+        match connectivity {
+            Connectivity::Four => self.breadth_first(),
+            Connectivity::Eight => self.two_queue_dijkstra(grid),
+        }
+    }
+
+    /// Unit-cost breadth-first search: the first time a cell is reached is final.
+    fn breadth_first(&mut self) {
+        let s = self.stride as isize;
+        let offsets = [1isize, s, -1, -s];
+        // Locals, so that the compiler keeps the buffers in registers.
+        let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
+        let frontier = &mut self.frontier;
+        let mut reached = 0;
+        while let Some(cur) = frontier.pop_front() {
+            let cur = cur as usize;
+            reached += 1;
+            let here = nodes[cur];
+            let reached_next =
+                FieldNode { distance: here.distance + 1.0, parent: cur as u32, source: here.source };
+            for &o in &offsets {
+                let next = (cur as isize + o) as usize;
+                if state[next] == UNREACHED {
+                    state[next] = SETTLED;
+                    nodes[next] = reached_next;
+                    frontier.push_back(next as u32);
+                }
+            }
+        }
+        self.reached = reached;
+    }
+
+    /// Exact Dijkstra with one sorted FIFO queue per edge cost (1 and √2).
+    fn two_queue_dijkstra(&mut self, grid: &NavGrid) {
+        let cells = grid.cells();
+        let s = self.stride as isize;
+        let straight = [1isize, s, -1, -s];
+        // (offset, the two orthogonal cells the diagonal passes)
+        let diagonal = [(s + 1, 1, s), (s - 1, -1, s), (-s - 1, -1, -s), (-s + 1, 1, -s)];
+        let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
+        let (straight_queue, diagonal_queue) = (&mut self.straight_queue, &mut self.diagonal_queue);
+        let mut reached = 0;
+        loop {
+            let from_straight = match (straight_queue.front(), diagonal_queue.front()) {
+                (None, None) => break,
+                (Some(_), None) => true,
+                (None, Some(_)) => false,
+                (Some(a), Some(b)) => a.0 <= b.0,
+            };
+            let queue = if from_straight { &mut *straight_queue } else { &mut *diagonal_queue };
+            let Some((d, cur)) = queue.pop_front() else { break };
+            let cur = cur as usize;
+            // A cell is queued again only with a strictly smaller distance, so exactly one of its
+            // entries carries its final distance: the others are stale.
+            if state[cur] != OPEN || d > nodes[cur].distance {
+                continue;
+            }
+            state[cur] = SETTLED;
+            reached += 1;
+            let source = nodes[cur].source;
+            let next_d = d + 1.0;
+            for &o in &straight {
+                let next = (cur as isize + o) as usize;
+                let st = state[next];
+                if st == UNREACHED || (st == OPEN && next_d < nodes[next].distance) {
+                    state[next] = OPEN;
+                    nodes[next] = FieldNode { distance: next_d, parent: cur as u32, source };
+                    straight_queue.push_back((next_d, next as u32));
+                }
+            }
+            let next_d = d + DIAGONAL_COST;
+            for &(o, a, b) in &diagonal {
+                let next = (cur as isize + o) as usize;
+                let st = state[next];
+                if (st == UNREACHED || (st == OPEN && next_d < nodes[next].distance))
+                    && cells[(cur as isize + a) as usize] == PASSABLE
+                    && cells[(cur as isize + b) as usize] == PASSABLE
+                {
+                    state[next] = OPEN;
+                    nodes[next] = FieldNode { distance: next_d, parent: cur as u32, source };
+                    diagonal_queue.push_back((next_d, next as u32));
+                }
+            }
+        }
+        self.reached = reached;
+    }
+
+    /// Geometry of the grid of the last computation.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+
+    /// Connectivity of the last computation.
+    pub fn connectivity(&self) -> Connectivity {
+        self.connectivity
+    }
+
+    /// The sources actually used (passable, in the order given, duplicates removed).
+    pub fn sources(&self) -> &[Cell] {
+        &self.sources
+    }
+
+    /// Number of cells reached (sources included).
+    pub fn reached_count(&self) -> usize {
+        self.reached
+    }
+
+    fn index(&self, cell: Cell) -> Option<usize> {
+        self.geometry
+            .contains(cell)
+            .then(|| (cell.row as usize + 1) * self.stride + cell.col as usize + 1)
+            .filter(|&i| self.state.get(i) == Some(&SETTLED))
+    }
+
+    /// Distance in cells from `cell` to its nearest source; `None` when unreachable or outside.
+    pub fn distance_cells(&self, cell: Cell) -> Option<f64> {
+        self.index(cell).map(|i| self.nodes[i].distance)
+    }
+
+    /// Distance in metres (cells × the grid's resolution).
+    pub fn distance_m(&self, cell: Cell) -> Option<f64> {
+        self.distance_cells(cell).map(|d| d * self.geometry.resolution_m)
+    }
+
+    /// The source `cell` is priced from; `None` when unreachable.
+    pub fn nearest_source(&self, cell: Cell) -> Option<Cell> {
+        self.index(cell).map(|i| self.sources[self.nodes[i].source as usize])
+    }
+
+    /// A shortest path from `cell` to its nearest source (first cell `cell`, last the source),
+    /// following the parents the search recorded.
+    pub fn path_to_source(&self, cell: Cell) -> Option<GridPath> {
+        let mut i = self.index(cell)?;
+        let length_cells = self.nodes[i].distance;
+        let mut cells = Vec::new();
+        loop {
+            cells.push(self.cell_of_padded(i));
+            if self.nodes[i].parent == NO_PARENT {
+                break;
+            }
+            i = self.nodes[i].parent as usize;
+        }
+        Some(GridPath { cells, length_cells })
+    }
+
+    /// The whole field as a grid of distances in cells, `INFINITY` where unreachable.
+    pub fn to_grid(&self) -> Grid<f64> {
+        let g = self.geometry;
+        let mut out = Grid::filled(g, f64::INFINITY);
+        let w = g.width as usize;
+        if w > 0 && !self.state.is_empty() {
+            for (row, dst) in out.as_mut_slice().chunks_exact_mut(w).enumerate() {
+                let start = (row + 1) * self.stride + 1;
+                let states = &self.state[start..start + w];
+                let nodes = &self.nodes[start..start + w];
+                for ((d, &st), node) in dst.iter_mut().zip(states).zip(nodes) {
+                    if st == SETTLED {
+                        *d = node.distance;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn cell_of_padded(&self, i: usize) -> Cell {
+        Cell::new((i % self.stride) as i32 - 1, (i / self.stride) as i32 - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_floor_distances_are_manhattan_and_octile() {
+        let g = GridGeometry::new(9, 6, 0.5, Point2::new(0.0, 0.0));
+        let grid = NavGrid::from_fn(g, |_| false);
+        let mut field = DistanceField::new();
+        let src = Cell::new(2, 1);
+        field.compute(&grid, &[src], Connectivity::Four);
+        assert_eq!(field.distance_cells(Cell::new(7, 4)), Some(8.0));
+        assert_eq!(field.distance_m(Cell::new(7, 4)), Some(4.0));
+        assert_eq!(field.reached_count(), 54);
+        field.compute(&grid, &[src], Connectivity::Eight);
+        let d = field.distance_cells(Cell::new(7, 4)).unwrap();
+        assert!((d - (2.0 + 3.0 * DIAGONAL_COST)).abs() < 1e-12);
+        let path = field.path_to_source(Cell::new(7, 4)).unwrap();
+        assert_eq!(path.cells.first(), Some(&Cell::new(7, 4)));
+        assert_eq!(path.cells.last(), Some(&src));
+        assert_eq!(field.nearest_source(Cell::new(0, 0)), Some(src));
+        assert_eq!(field.distance_cells(Cell::new(9, 0)), None);
+    }
+}

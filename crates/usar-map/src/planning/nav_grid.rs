@@ -1,0 +1,158 @@
+//! The planners' view of a map: passability in one flat byte buffer with a blocked border.
+
+use usar_world::{Cell, Grid, GridGeometry};
+
+/// Byte value of a cell a robot may enter.
+pub(crate) const PASSABLE: u8 = 1;
+/// Byte value of a blocked cell (and of the border).
+pub(crate) const BLOCKED: u8 = 0;
+
+/// Passability of a grid, stored row-major in a `Vec<u8>` with a one-cell blocked border, so
+/// that the planners' neighbour loops need no bounds checks: every in-grid cell has all eight
+/// neighbours in the buffer, and the border ones are blocked.
+///
+/// Padded index of cell (col, row) is `(row + 1) * (width + 2) + col + 1`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NavGrid {
+    geometry: GridGeometry,
+    /// Width of a padded row, `width + 2`.
+    stride: usize,
+    /// `(width + 2) * (height + 2)` bytes, [`PASSABLE`] or [`BLOCKED`].
+    cells: Vec<u8>,
+}
+
+impl NavGrid {
+    /// A grid of the given geometry with every cell blocked.
+    pub fn all_blocked(geometry: GridGeometry) -> Self {
+        let stride = geometry.width as usize + 2;
+        let cells = vec![BLOCKED; stride * (geometry.height as usize + 2)];
+        Self { geometry, stride, cells }
+    }
+
+    /// From a blocked mask: `true` = blocked (an obstacle, or an inflated one).
+    pub fn from_blocked(blocked: &Grid<bool>) -> Self {
+        Self::from_values(blocked, |&b| !b)
+    }
+
+    /// From a passable mask: `true` = free (e.g. a MovingAI map's `passable`).
+    pub fn from_passable(passable: &Grid<bool>) -> Self {
+        Self::from_values(passable, |&p| p)
+    }
+
+    /// From any grid and a predicate saying which values are passable.
+    pub fn from_values<T>(grid: &Grid<T>, mut is_passable: impl FnMut(&T) -> bool) -> Self {
+        let mut nav = Self::all_blocked(*grid.geometry());
+        let w = grid.width() as usize;
+        if w == 0 {
+            return nav;
+        }
+        for (row, values) in grid.as_slice().chunks_exact(w).enumerate() {
+            let start = (row + 1) * nav.stride + 1;
+            for (dst, v) in nav.cells[start..start + w].iter_mut().zip(values) {
+                *dst = if is_passable(v) { PASSABLE } else { BLOCKED };
+            }
+        }
+        nav
+    }
+
+    /// From a closure saying, for every cell of `geometry`, whether it is blocked.
+    pub fn from_fn(geometry: GridGeometry, mut is_blocked: impl FnMut(Cell) -> bool) -> Self {
+        let mut nav = Self::all_blocked(geometry);
+        for row in 0..geometry.height as i32 {
+            for col in 0..geometry.width as i32 {
+                let cell = Cell::new(col, row);
+                let i = nav.padded_index(cell);
+                nav.cells[i] = if is_blocked(cell) { BLOCKED } else { PASSABLE };
+            }
+        }
+        nav
+    }
+
+    /// Size, resolution and placement of the (unpadded) grid.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+
+    /// True if `cell` is inside the grid and passable.
+    #[inline]
+    pub fn is_passable(&self, cell: Cell) -> bool {
+        self.geometry.contains(cell) && self.cells[self.padded_index(cell)] == PASSABLE
+    }
+
+    /// Marks an in-grid cell passable or blocked; cells outside the grid are ignored.
+    pub fn set_passable(&mut self, cell: Cell, passable: bool) {
+        if self.geometry.contains(cell) {
+            let i = self.padded_index(cell);
+            self.cells[i] = if passable { PASSABLE } else { BLOCKED };
+        }
+    }
+
+    /// Number of passable cells.
+    pub fn passable_count(&self) -> usize {
+        self.cells.iter().filter(|&&c| c == PASSABLE).count()
+    }
+
+    /// The blocked mask (`true` = blocked), unpadded.
+    pub fn to_blocked(&self) -> Grid<bool> {
+        let g = self.geometry;
+        let mut out = Grid::filled(g, true);
+        let w = g.width as usize;
+        if w > 0 {
+            for (row, dst) in out.as_mut_slice().chunks_exact_mut(w).enumerate() {
+                let start = (row + 1) * self.stride + 1;
+                for (d, &c) in dst.iter_mut().zip(&self.cells[start..start + w]) {
+                    *d = c != PASSABLE;
+                }
+            }
+        }
+        out
+    }
+
+    /// Padded row width, `width + 2`.
+    #[inline]
+    pub(crate) fn stride(&self) -> usize {
+        self.stride
+    }
+
+    /// The padded passability buffer.
+    #[inline]
+    pub(crate) fn cells(&self) -> &[u8] {
+        &self.cells
+    }
+
+    /// Padded index of an in-grid cell.
+    #[inline]
+    pub(crate) fn padded_index(&self, cell: Cell) -> usize {
+        debug_assert!(self.geometry.contains(cell));
+        (cell.row as usize + 1) * self.stride + cell.col as usize + 1
+    }
+
+    /// The cell of a padded index (border indices give col or row -1 or width/height).
+    #[inline]
+    pub(crate) fn cell_of_padded(&self, index: usize) -> Cell {
+        Cell::new((index % self.stride) as i32 - 1, (index / self.stride) as i32 - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use usar_world::Point2;
+
+    #[test]
+    fn border_is_blocked_and_cells_round_trip() {
+        let g = GridGeometry::new(3, 2, 0.1, Point2::new(0.0, 0.0));
+        let nav = NavGrid::from_fn(g, |c| c == Cell::new(1, 0));
+        assert_eq!(nav.cells().len(), 5 * 4);
+        assert!(!nav.is_passable(Cell::new(1, 0)));
+        assert!(nav.is_passable(Cell::new(2, 1)));
+        assert!(!nav.is_passable(Cell::new(3, 1)));
+        assert!(!nav.is_passable(Cell::new(-1, 0)));
+        assert_eq!(nav.passable_count(), 5);
+        for c in [Cell::new(0, 0), Cell::new(2, 1)] {
+            assert_eq!(nav.cell_of_padded(nav.padded_index(c)), c);
+        }
+        let blocked = nav.to_blocked();
+        assert_eq!(NavGrid::from_blocked(&blocked), nav);
+    }
+}
