@@ -1,8 +1,10 @@
 //! The log-odds occupancy grid a robot builds from its laser scans, and its merging at a base
 //! station.
 //!
-//! Each cell stores l = 10·ln(p / (1 − p)) as an `i8`, clamped to ±[`LOGODDS_LIMIT`]. A scan
-//! updates every cell at most once: cells a beam crosses before its return get the miss
+//! Each cell stores l = 10·ln(p / (1 − p)) as an `i8`, clamped to ±[`LOGODDS_LIMIT`], or
+//! [`NEVER_OBSERVED`] until a beam first reaches it: "unknown" means never observed, so a cell
+//! that sees contradictory evidence (a wall surface grazed by noisy beams) stays known and does
+//! not reappear as a frontier. A scan updates every cell at most once: cells a beam crosses before its return get the miss
 //! increment, the cell of the return gets the hit increment (applied after all misses, so a wall
 //! grazed by one beam and hit by another ends up occupied). Class changes are logged for
 //! incremental consumers (frontiers, inflation) and updated 32×32 tiles are marked dirty for
@@ -13,6 +15,8 @@ use usar_world::{Cell, Grid, GridGeometry, GridRay};
 
 /// Largest |l| stored (p ≈ 0.018 … 0.982).
 pub const LOGODDS_LIMIT: i8 = 40;
+/// The value of a cell no beam has reached yet.
+pub const NEVER_OBSERVED: i8 = i8::MIN;
 const TILE_SHIFT: u32 = 5;
 
 /// What a robot believes about a cell.
@@ -30,27 +34,26 @@ pub struct OccupancyParams {
     pub hit: i8,
     /// Increment for a cell a beam crossed: −4 ≈ p(occ | miss) = 0.40.
     pub miss: i8,
-    /// A cell is occupied when l ≥ this and free when l ≤ −this; unknown in between. With the
-    /// defaults one observation decides, and one contrary observation of an occupied cell does
-    /// not flip it.
-    pub decided_at: i8,
+    /// An observed cell is occupied when l > this, free otherwise. With the defaults one hit
+    /// makes a cell occupied and it takes three misses to free it again.
+    pub occupied_above: i8,
 }
 
 impl Default for OccupancyParams {
     fn default() -> Self {
-        Self { hit: 9, miss: -4, decided_at: 3 }
+        Self { hit: 9, miss: -4, occupied_above: 0 }
     }
 }
 
 impl OccupancyParams {
     #[inline]
     pub fn class(&self, logodds: i8) -> CellClass {
-        if logodds >= self.decided_at {
-            CellClass::Occupied
-        } else if logodds <= -self.decided_at {
-            CellClass::Free
-        } else {
+        if logodds == NEVER_OBSERVED {
             CellClass::Unknown
+        } else if logodds > self.occupied_above {
+            CellClass::Occupied
+        } else {
+            CellClass::Free
         }
     }
 }
@@ -80,7 +83,7 @@ impl OccupancyGrid {
         Self {
             geometry,
             params,
-            logodds: vec![0; n],
+            logodds: vec![NEVER_OBSERVED; n],
             stamp: vec![0; n],
             scan_number: 0,
             hits: Vec::new(),
@@ -132,7 +135,14 @@ impl OccupancyGrid {
     #[inline(always)]
     fn apply(&mut self, i: usize, delta: i8) {
         let old = self.logodds[i];
-        let new = old.saturating_add(delta).clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT);
+        let base = if old == NEVER_OBSERVED { 0 } else { old };
+        self.set(i, base.saturating_add(delta).clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT));
+    }
+
+    /// Sets a cell's value, logging a class change and marking its tile dirty.
+    #[inline(always)]
+    fn set(&mut self, i: usize, new: i8) {
+        let old = self.logodds[i];
         if new != old {
             self.logodds[i] = new;
             let (co, cn) = (self.params.class(old), self.params.class(new));
@@ -205,14 +215,16 @@ impl OccupancyGrid {
     }
 
     /// Replaces this grid's values with the clamped sum of `sources` on every tile that any
-    /// source changed since its last merge (log-odds of independent observers add up), then
-    /// clears the sources' dirty marks. All grids must share one geometry.
+    /// source changed since its last merge (log-odds of independent observers add up; a cell is
+    /// unknown only if every source has never observed it), then clears the sources' dirty
+    /// marks. All grids must share one geometry.
     pub fn merge_from(&mut self, sources: &mut [&mut OccupancyGrid]) {
         let n_tiles = self.dirty_tiles.len();
         let w = self.geometry.width as usize;
         let h = self.geometry.height as usize;
         let side = 1usize << TILE_SHIFT;
         let mut sum = vec![0i16; side];
+        let mut observed = vec![false; side];
         for tile in 0..n_tiles {
             if !sources.iter().any(|s| s.dirty_tiles[tile]) {
                 continue;
@@ -223,19 +235,24 @@ impl OccupancyGrid {
             for row in y0..y1 {
                 let span = row * w + x0..row * w + x1;
                 let sum = &mut sum[..x1 - x0];
+                let observed = &mut observed[..x1 - x0];
                 sum.fill(0);
+                observed.fill(false);
                 for s in sources.iter() {
-                    for (acc, &l) in sum.iter_mut().zip(&s.logodds[span.clone()]) {
-                        *acc += i16::from(l);
+                    for ((acc, seen), &l) in sum.iter_mut().zip(observed.iter_mut()).zip(&s.logodds[span.clone()]) {
+                        if l != NEVER_OBSERVED {
+                            *acc += i16::from(l);
+                            *seen = true;
+                        }
                     }
                 }
-                for (k, &total) in sum.iter().enumerate() {
-                    let i = span.start + k;
-                    let target = total.clamp(-i16::from(LOGODDS_LIMIT), i16::from(LOGODDS_LIMIT)) as i8;
-                    let delta = i16::from(target) - i16::from(self.logodds[i]);
-                    if delta != 0 {
-                        self.apply(i, delta as i8);
-                    }
+                for (k, (&total, &seen)) in sum.iter().zip(observed.iter()).enumerate() {
+                    let target = if seen {
+                        total.clamp(-i16::from(LOGODDS_LIMIT), i16::from(LOGODDS_LIMIT)) as i8
+                    } else {
+                        NEVER_OBSERVED
+                    };
+                    self.set(span.start + k, target);
                 }
             }
         }

@@ -64,6 +64,12 @@ impl SimRobot {
     pub fn blocked(&self) -> &Grid<bool> {
         &self.blocked
     }
+
+    /// Whether its last commanded motion was stopped by an obstacle or another robot (what a
+    /// bumper would tell).
+    pub fn in_contact(&self) -> bool {
+        self.in_contact
+    }
 }
 
 /// Why a robot could not be added.

@@ -40,9 +40,10 @@ pub fn candidates(clusters: &[FrontierCluster], is_navigable: impl Fn(Cell) -> b
         .collect()
 }
 
-/// Path costs (cells) from one robot to every candidate; `None` = unreachable.
-pub fn path_costs(field: &mut DistanceField, grid: &NavGrid, source: Cell, candidates: &[Candidate]) -> Vec<Option<f64>> {
-    field.compute(grid, &[source], Connectivity::Eight);
+/// Path costs (cells) from one robot — its start cells `sources` — to every candidate; `None` =
+/// unreachable.
+pub fn path_costs(field: &mut DistanceField, grid: &NavGrid, sources: &[Cell], candidates: &[Candidate]) -> Vec<Option<f64>> {
+    field.compute(grid, sources, Connectivity::Eight);
     candidates.iter().map(|c| field.distance_cells(c.cell)).collect()
 }
 

@@ -9,17 +9,22 @@ use usar_world::Scene;
 pub struct BaseStation {
     pub merged: OccupancyGrid,
     pub frontiers: FrontierTracker,
+    /// Navigable space for paths the robot can turn anywhere on (circumscribed radius).
     pub navigable: NavigableMap,
+    /// Navigable space for squeezing through (half the robot's width plus a margin): used when
+    /// nothing is reachable with the full radius, e.g. a doorway narrowed by sensor noise.
+    pub navigable_tight: NavigableMap,
     pub coverage: CoverageCounter,
     changed: Vec<u32>,
 }
 
 impl BaseStation {
-    pub fn new(scene: &Scene, params: OccupancyParams, robot_radius_m: f64, start: usar_world::Point2) -> Self {
+    pub fn new(scene: &Scene, params: OccupancyParams, radius_m: f64, tight_radius_m: f64, start: usar_world::Point2) -> Self {
         let merged = OccupancyGrid::new(*scene.geometry(), params);
         Self {
             frontiers: FrontierTracker::new(&merged),
-            navigable: NavigableMap::new(&merged, robot_radius_m),
+            navigable: NavigableMap::new(&merged, radius_m),
+            navigable_tight: NavigableMap::new(&merged, tight_radius_m),
             coverage: CoverageCounter::new(scene, start),
             merged,
             changed: Vec::new(),
@@ -33,6 +38,7 @@ impl BaseStation {
         self.merged.drain_changed(&mut self.changed);
         self.frontiers.update_from(&self.merged, &self.changed);
         self.navigable.update_from(&self.merged, &self.changed);
+        self.navigable_tight.update_from(&self.merged, &self.changed);
         self.coverage.update_from(&self.merged, &self.changed);
     }
 

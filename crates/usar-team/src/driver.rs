@@ -11,7 +11,7 @@ pub struct PathFollower {
 }
 
 /// Distance ahead on the path that the robot steers towards, metres.
-pub const LOOKAHEAD_M: f64 = 0.5;
+pub const LOOKAHEAD_M: f64 = 0.35;
 /// The goal counts as reached within this distance, metres.
 pub const GOAL_TOLERANCE_M: f64 = 0.25;
 /// Heading error above which the robot turns in place, radians.

@@ -19,6 +19,33 @@ const STUCK_DISTANCE_M: f64 = 0.2;
 const STUCK_WINDOW_S: f64 = 4.0;
 /// A candidate a robot got stuck on is not given to it again for this long.
 const BLACKLIST_S: f64 = 30.0;
+/// A candidate a robot reached is not given to it again for this long.
+const REACHED_BLACKLIST_S: f64 = 20.0;
+/// Commitment: at a periodic reassignment, a candidate within this distance (cells) of the
+/// robot's current target costs it [`COMMITMENT_FACTOR`] × its path cost, so that two frontiers
+/// at similar distances do not make the robot turn back and forth every few seconds.
+const COMMITMENT_CELLS: i32 = 10;
+const COMMITMENT_FACTOR: f64 = 0.5;
+/// Margin added to half the robot's width for squeezing through narrow places, metres.
+const TIGHT_MARGIN_M: f64 = 0.05;
+/// The mission counts as explored once no robot has had a reachable candidate for this long
+/// (a doorway closed for a moment by a noisy return must not end it).
+const EXPLORED_AFTER_S: f64 = 10.0;
+/// Recovery after a collision (what a bumper-equipped base does): back up for this long, and if
+/// that is blocked too, turn in place; then plan again.
+const RECOVERY_S: f64 = 1.0;
+const RECOVERY_BACK_MPS: f64 = -0.15;
+const RECOVERY_TURN_RADPS: f64 = 0.8;
+/// A target that needed this many recoveries is given up (blacklisted) like a stuck one.
+const MAX_RECOVERIES: u32 = 3;
+/// When no candidate is reachable from where a robot stands (the map, refined since it drove
+/// in, no longer connects its pocket), it retraces this much of its own trajectory and plans
+/// again: it was there, so the way back is passable.
+const RETRACE_M: f64 = 3.0;
+/// Right of way: a robot stops (it may still turn) while a robot with a lower id is closer than
+/// this, centre to centre, within ±60° of its heading.
+const YIELD_DISTANCE_M: f64 = 1.2;
+const YIELD_HALF_ANGLE_RAD: f64 = std::f64::consts::FRAC_PI_3;
 
 /// Why a mission could not start.
 #[derive(Debug, thiserror::Error)]
@@ -46,6 +73,12 @@ struct Agent {
     trajectory: Vec<Point2>,
     /// Path costs from the robot, reused between assignments.
     field: DistanceField,
+    /// A recovery manoeuvre in progress: the command and when it ends.
+    recovery: Option<(Velocity, f64)>,
+    /// Recoveries since the current target was assigned.
+    recoveries: u32,
+    /// Retracing its own trajectory out of a pocket the map no longer connects.
+    escaping: bool,
 }
 
 pub struct TeamMission {
@@ -97,10 +130,16 @@ impl TeamMission {
                 blacklist: Vec::new(),
                 trajectory: vec![pose.position()],
                 field: DistanceField::new(),
+                recovery: None,
+                recoveries: 0,
+                escaping: false,
             });
         }
         let start = scene.start_poses[0].position();
-        let base = BaseStation::new(&scene, params, config.robot.circumscribed_radius_m(), start);
+        // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
+        let half_cell = scene.geometry().resolution_m / 2.0;
+        let tight = config.robot.width_m / 2.0 + TIGHT_MARGIN_M + half_cell;
+        let base = BaseStation::new(&scene, params, config.robot.circumscribed_radius_m() + half_cell, tight, start);
         Ok(Self { config, sim, agents, base, victims_seen: Vec::new(), samples: Vec::new() })
     }
 
@@ -148,32 +187,43 @@ impl TeamMission {
         }
     }
 
-    /// The navigable cell nearest to a robot (itself when navigable), searched within 1 m.
-    fn source_cell(&self, grid: &NavGrid, p: Point2) -> Cell {
-        let g = self.base.merged.geometry();
-        let c = g.world_to_cell(p);
-        let reach = (1.0 / g.resolution_m).ceil() as i32;
-        for ring in 0..=reach {
-            let mut best: Option<(f64, Cell)> = None;
-            for dr in -ring..=ring {
-                for dc in -ring..=ring {
-                    if dr.abs().max(dc.abs()) != ring {
-                        continue;
-                    }
-                    let n = Cell::new(c.col + dc, c.row + dr);
-                    if g.contains(n) && grid.is_passable(n) {
-                        let d = g.cell_center(n).distance_squared(p);
-                        if best.is_none_or(|(bd, bc)| d < bd || (d == bd && n < bc)) {
-                            best = Some((d, n));
-                        }
+    /// Where the robot's plan starts: its own cell when navigable, otherwise every navigable
+    /// cell a breadth-first search through known-free cells reaches within 1.5 m — the start
+    /// never lies behind a wall the robot stands next to, and a pocket the robot squeezed into
+    /// (navigable but cut off) is not its only way out.
+    fn source_cells(&self, grid: &NavGrid, p: Point2, all: bool) -> Vec<Cell> {
+        let merged = &self.base.merged;
+        let g = merged.geometry();
+        let start = g.world_to_cell(p);
+        if grid.is_passable(start) {
+            return vec![start];
+        }
+        let reach = (1.5 / g.resolution_m).ceil() as i32;
+        let mut queue = std::collections::VecDeque::from([start]);
+        let mut seen = std::collections::BTreeSet::from([start]);
+        let mut sources = Vec::new();
+        while let Some(c) = queue.pop_front() {
+            for (dc, dr) in usar_world::NEIGHBORS8 {
+                let n = Cell::new(c.col + dc, c.row + dr);
+                if !g.contains(n) || n.chebyshev(start) > reach || !seen.insert(n) {
+                    continue;
+                }
+                if grid.is_passable(n) {
+                    sources.push(n);
+                    if !all {
+                        return sources;
                     }
                 }
-            }
-            if let Some((_, n)) = best {
-                return n;
+                if merged.class(n) == usar_map::CellClass::Free {
+                    queue.push_back(n);
+                }
             }
         }
-        c
+        if sources.is_empty() {
+            sources.push(start);
+        }
+        sources.sort();
+        sources
     }
 
     /// Reassigns targets to the robots in `who` (all robots at a periodic auction, or those
@@ -181,45 +231,72 @@ impl TeamMission {
     fn assign(&mut self, who: &[usize]) -> bool {
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
-        let nav = &self.base.navigable;
         let merged = &self.base.merged;
-        let cands: Vec<Candidate> = candidates(&clusters, |c| g.checked_index(c).is_some_and(|i| nav.is_navigable(merged, i)), &g);
-        let mut grid = NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c)));
+        let navigable = |nav: &usar_map::NavigableMap, c: Cell| g.checked_index(c).is_some_and(|i| nav.is_navigable(merged, i));
+        let cands: Vec<Candidate> = candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
+        let mut grids = [&self.base.navigable, &self.base.navigable_tight].map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
         let now = self.sim.time_s();
         // Targets of robots that keep theirs are taken (one robot per candidate).
         let keep: Vec<Cell> = (0..self.agents.len()).filter(|i| !who.contains(i)).filter_map(|i| self.agents[i].target).collect();
+        let clearance = self.config.robot.circumscribed_radius_m() * 2.0;
         let mut costs = Vec::with_capacity(who.len());
         for &i in who {
             let pose = self.sim.robot(self.agents[i].id).pose;
-            // Other robots are obstacles for this robot's plan.
-            let mut closed = Vec::new();
-            let clearance = self.config.robot.circumscribed_radius_m() * 2.0;
-            for (j, other) in self.agents.iter().enumerate() {
-                if j == i || self.sim.robot(other.id).failed {
-                    continue;
+            let others: Vec<Point2> = self
+                .agents
+                .iter()
+                .enumerate()
+                .filter(|&(j, a)| j != i && !self.sim.robot(a.id).failed)
+                .map(|(_, a)| self.sim.robot(a.id).pose.position())
+                .collect();
+            self.agents[i].blacklist.retain(|&(_, until)| until > now);
+            let mut row = Vec::new();
+            // Plan with the full radius from the nearest navigable cell; if nothing is reachable,
+            // squeeze with the tight radius; last, start from every navigable cell nearby.
+            for (grid, all_sources) in [(0, false), (1, false), (1, true)] {
+                let grid = &mut grids[grid];
+                let mut closed = Vec::new();
+                for &p in &others {
+                    block_disc(grid, p, clearance, &mut closed);
                 }
-                let p = self.sim.robot(other.id).pose.position();
-                block_disc(&mut grid, p, clearance, &mut closed);
-            }
-            let source = self.source_cell(&grid, pose.position());
-            let was_passable = grid.is_passable(source);
-            grid.set_passable(source, true);
-            let agent = &mut self.agents[i];
-            agent.blacklist.retain(|&(_, until)| until > now);
-            let mut row = path_costs(&mut agent.field, &grid, source, &cands);
-            for (k, c) in cands.iter().enumerate() {
-                if keep.contains(&c.cell) || agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
-                    row[k] = None;
+                let sources = self.source_cells(grid, pose.position(), all_sources);
+                let was_passable: Vec<bool> = sources.iter().map(|&c| grid.is_passable(c)).collect();
+                for &c in &sources {
+                    grid.set_passable(c, true);
+                }
+                let agent = &mut self.agents[i];
+                row = path_costs(&mut agent.field, grid, &sources, &cands);
+                for (&c, &passable) in sources.iter().zip(&was_passable) {
+                    grid.set_passable(c, passable);
+                }
+                for c in closed {
+                    grid.set_passable(c, true);
+                }
+                for (k, c) in cands.iter().enumerate() {
+                    if keep.contains(&c.cell) || agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
+                        row[k] = None;
+                    } else if let (Some(cost), Some(t)) = (row[k], agent.target)
+                        && t.chebyshev(c.cell) <= COMMITMENT_CELLS
+                    {
+                        row[k] = Some(cost * COMMITMENT_FACTOR);
+                    }
+                }
+                if std::env::var("USAR_DEBUG").is_ok() {
+                    let agent = &self.agents[i];
+                    eprintln!("  robot {i} at {:.2},{:.2} sources {:?} reachable {} field reached {} class {:?} blacklist {}", pose.x, pose.y, sources, row.iter().filter(|c| c.is_some()).count(), agent.field.reached_count(), self.base.merged.class(g.world_to_cell(pose.position())), agent.blacklist.len());
+                }
+                if row.iter().any(Option::is_some) {
+                    break;
                 }
             }
             costs.push(row);
-            grid.set_passable(source, was_passable);
-            for c in closed {
-                grid.set_passable(c, true);
-            }
         }
         let chosen = assign_nearest(&costs);
         let mut any = false;
+        if std::env::var("USAR_DEBUG").is_ok() {
+            eprintln!("t={:.1} who={:?} cands={} chosen={:?} costs={:?}", now, who, cands.len(), chosen, costs.iter().map(|r| r.iter().filter(|c| c.is_some()).count()).collect::<Vec<_>>());
+
+        }
         for (k, &i) in who.iter().enumerate() {
             let agent = &mut self.agents[i];
             match chosen[k] {
@@ -233,10 +310,12 @@ impl TeamMission {
                     let waypoints: Vec<Point2> = path.iter().rev().map(|&c| g.cell_center(c)).collect();
                     agent.follower = PathFollower::new(waypoints);
                     agent.target = Some(target);
+                    agent.recoveries = 0;
                 }
                 None => {
-                    agent.follower = PathFollower::default();
                     agent.target = None;
+                    agent.follower = PathFollower::new(retrace(&agent.trajectory, self.sim.robot(agent.id).pose.position()));
+                    agent.escaping = !agent.follower.is_empty();
                 }
             }
             agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
@@ -268,14 +347,52 @@ impl TeamMission {
             finish = Finish::Explored;
         }
         let mut step = 0u64;
+        let mut idle_since: Option<f64> = None;
         while finish == Finish::TimeLimit && step < steps {
             step += 1;
+            let now = self.sim.time_s();
+            let mut replan = Vec::new();
             let commands: Vec<Velocity> = self
                 .agents
                 .iter_mut()
-                .map(|a| {
+                .enumerate()
+                .map(|(i, a)| {
                     let r = self.sim.robot(a.id);
-                    a.follower.command(r.pose, &r.spec)
+                    match a.recovery {
+                        Some((cmd, until)) if now < until => {
+                            if r.in_contact() && cmd.linear_mps != 0.0 {
+                                // Backing up is blocked too: turn instead.
+                                let turn = Velocity { linear_mps: 0.0, angular_radps: RECOVERY_TURN_RADPS };
+                                a.recovery = Some((turn, now + RECOVERY_S));
+                                return turn;
+                            }
+                            cmd
+                        }
+                        Some(_) => {
+                            a.recovery = None;
+                            a.recoveries += 1;
+                            if a.recoveries >= MAX_RECOVERIES
+                                && let Some(t) = a.target.take()
+                            {
+                                a.blacklist.push((t, now + BLACKLIST_S));
+                                a.follower = PathFollower::default();
+                            }
+                            replan.push(i);
+                            Velocity::default()
+                        }
+                        None if r.in_contact() => {
+                            let back = Velocity { linear_mps: RECOVERY_BACK_MPS, angular_radps: 0.0 };
+                            a.recovery = Some((back, now + RECOVERY_S));
+                            back
+                        }
+                        None => {
+                            let mut cmd = a.follower.command(r.pose, &r.spec);
+                            if cmd.linear_mps > 0.0 && self.sim.robots()[..i].iter().any(|o| gives_way(r.pose, o.pose.position())) {
+                                cmd.linear_mps = 0.0;
+                            }
+                            cmd
+                        }
+                    }
                 })
                 .collect();
             self.sim.step(&commands);
@@ -295,11 +412,11 @@ impl TeamMission {
                     a.trajectory.push(self.sim.robot(a.id).pose.position());
                 }
             }
-            // Who needs a new target: reached it, has none, or made no progress.
-            let mut who = Vec::new();
+            // Who needs a new target: reached it, has none, made no progress, or recovered.
+            let mut who = replan;
             for (i, a) in self.agents.iter_mut().enumerate() {
                 let r = self.sim.robot(a.id);
-                if r.failed {
+                if r.failed || a.recovery.is_some() || who.contains(&i) {
                     continue;
                 }
                 let done = a.follower.is_done(r.pose);
@@ -313,7 +430,20 @@ impl TeamMission {
                     }
                     a.progress_mark = (r.pose.position(), now);
                 }
-                if done && (a.target.is_some() || merged_now) {
+                if a.escaping {
+                    if done {
+                        a.escaping = false;
+                        who.push(i);
+                    }
+                    continue;
+                }
+                if done && let Some(reached) = a.target {
+                    // A frontier that did not resolve on arrival (it lies behind something the
+                    // laser cannot see past) is left alone for a while.
+                    a.blacklist.push((reached, now + REACHED_BLACKLIST_S));
+                    a.target = None;
+                    who.push(i);
+                } else if done && merged_now {
                     who.push(i);
                 }
             }
@@ -321,11 +451,15 @@ impl TeamMission {
                 who = everyone.clone();
             }
             if !who.is_empty() {
-                let any = self.assign(&who);
-                let all_idle = self.agents.iter().all(|a| a.target.is_none());
-                if !any && all_idle && merged_now {
+                self.assign(&who);
+            }
+            if self.agents.iter().all(|a| a.target.is_none() && !a.escaping) {
+                let since = *idle_since.get_or_insert(now);
+                if now - since >= EXPLORED_AFTER_S {
                     finish = Finish::Explored;
                 }
+            } else {
+                idle_since = None;
             }
             if self.every(self.config.timing.sample_period_s, step) {
                 self.sample();
@@ -376,6 +510,33 @@ impl TeamMission {
             merged_map: self.base.merged,
         }
     }
+}
+
+/// The way back along a trajectory: its points from the latest backwards, until [`RETRACE_M`]
+/// away from `here` along the way (empty when there is no way back).
+fn retrace(trajectory: &[Point2], here: Point2) -> Vec<Point2> {
+    let mut out = Vec::new();
+    let mut length = 0.0;
+    let mut last = here;
+    for &p in trajectory.iter().rev() {
+        if p.distance(here) < 0.2 && out.is_empty() {
+            continue;
+        }
+        length += last.distance(p);
+        out.push(p);
+        last = p;
+        if length >= RETRACE_M {
+            break;
+        }
+    }
+    out
+}
+
+/// Whether a robot at `pose` must give way to a robot at `other` (close, ahead of it).
+fn gives_way(pose: usar_world::Pose2, other: Point2) -> bool {
+    let here = pose.position();
+    here.distance(other) < YIELD_DISTANCE_M
+        && usar_world::normalize_angle(here.bearing_to(other) - pose.theta).abs() < YIELD_HALF_ANGLE_RAD
 }
 
 /// Marks the cells within `radius_m` of `p` impassable, remembering the ones it changed.
