@@ -17,7 +17,8 @@
 
 use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath};
 use super::nav_grid::{NavGrid, PASSABLE};
-use std::collections::VecDeque;
+
+use super::open_list::Fifo;
 use usar_world::{Cell, Grid, GridGeometry, Point2};
 
 /// Parent of a source cell and of unreached cells.
@@ -42,7 +43,11 @@ struct FieldNode {
     source: u32,
 }
 
-const UNSET: FieldNode = FieldNode { distance: f64::INFINITY, parent: NO_PARENT, source: 0 };
+const UNSET: FieldNode = FieldNode {
+    distance: f64::INFINITY,
+    parent: NO_PARENT,
+    source: 0,
+};
 
 /// Distances from a set of source cells to every cell of a [`NavGrid`].
 ///
@@ -60,11 +65,11 @@ pub struct DistanceField {
     /// The passable sources, in the order given.
     sources: Vec<Cell>,
     /// Breadth-first queue ([`Connectivity::Four`]).
-    frontier: VecDeque<u32>,
+    frontier: Fifo<u32>,
     /// Cells opened by a straight move, with their distance (sorted by it).
-    straight_queue: VecDeque<(f64, u32)>,
+    straight_queue: Fifo<(f64, u32)>,
     /// Cells opened by a diagonal move, with their distance (sorted by it).
-    diagonal_queue: VecDeque<(f64, u32)>,
+    diagonal_queue: Fifo<(f64, u32)>,
     reached: usize,
 }
 
@@ -83,10 +88,10 @@ impl DistanceField {
             connectivity: Connectivity::Four,
             nodes: Vec::new(),
             state: Vec::new(),
-            frontier: VecDeque::new(),
+            frontier: Fifo::default(),
             sources: Vec::new(),
-            straight_queue: VecDeque::new(),
-            diagonal_queue: VecDeque::new(),
+            straight_queue: Fifo::default(),
+            diagonal_queue: Fifo::default(),
             reached: 0,
         }
     }
@@ -124,12 +129,15 @@ impl DistanceField {
                 Connectivity::Four => SETTLED,
                 Connectivity::Eight => OPEN,
             };
-            self.nodes[i] =
-                FieldNode { distance: 0.0, parent: NO_PARENT, source: self.sources.len() as u32 };
+            self.nodes[i] = FieldNode {
+                distance: 0.0,
+                parent: NO_PARENT,
+                source: self.sources.len() as u32,
+            };
             self.sources.push(s);
             match connectivity {
-                Connectivity::Four => self.frontier.push_back(i as u32),
-                Connectivity::Eight => self.straight_queue.push_back((0.0, i as u32)),
+                Connectivity::Four => self.frontier.push(i as u32),
+                Connectivity::Eight => self.straight_queue.push((0.0, i as u32)),
             }
         }
         match connectivity {
@@ -146,18 +154,21 @@ impl DistanceField {
         let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
         let frontier = &mut self.frontier;
         let mut reached = 0;
-        while let Some(cur) = frontier.pop_front() {
+        while let Some(cur) = frontier.pop() {
             let cur = cur as usize;
             reached += 1;
             let here = nodes[cur];
-            let reached_next =
-                FieldNode { distance: here.distance + 1.0, parent: cur as u32, source: here.source };
+            let reached_next = FieldNode {
+                distance: here.distance + 1.0,
+                parent: cur as u32,
+                source: here.source,
+            };
             for &o in &offsets {
                 let next = (cur as isize + o) as usize;
                 if state[next] == UNREACHED {
                     state[next] = SETTLED;
                     nodes[next] = reached_next;
-                    frontier.push_back(next as u32);
+                    frontier.push(next as u32);
                 }
             }
         }
@@ -170,7 +181,12 @@ impl DistanceField {
         let s = self.stride as isize;
         let straight = [1isize, s, -1, -s];
         // (offset, the two orthogonal cells the diagonal passes)
-        let diagonal = [(s + 1, 1, s), (s - 1, -1, s), (-s - 1, -1, -s), (-s + 1, 1, -s)];
+        let diagonal = [
+            (s + 1, 1, s),
+            (s - 1, -1, s),
+            (-s - 1, -1, -s),
+            (-s + 1, 1, -s),
+        ];
         let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
         let (straight_queue, diagonal_queue) = (&mut self.straight_queue, &mut self.diagonal_queue);
         let mut reached = 0;
@@ -181,8 +197,12 @@ impl DistanceField {
                 (None, Some(_)) => false,
                 (Some(a), Some(b)) => a.0 <= b.0,
             };
-            let queue = if from_straight { &mut *straight_queue } else { &mut *diagonal_queue };
-            let Some((d, cur)) = queue.pop_front() else { break };
+            let queue = if from_straight {
+                &mut *straight_queue
+            } else {
+                &mut *diagonal_queue
+            };
+            let Some((d, cur)) = queue.pop() else { break };
             let cur = cur as usize;
             // A cell is queued again only with a strictly smaller distance, so exactly one of its
             // entries carries its final distance: the others are stale.
@@ -198,8 +218,12 @@ impl DistanceField {
                 let st = state[next];
                 if st == UNREACHED || (st == OPEN && next_d < nodes[next].distance) {
                     state[next] = OPEN;
-                    nodes[next] = FieldNode { distance: next_d, parent: cur as u32, source };
-                    straight_queue.push_back((next_d, next as u32));
+                    nodes[next] = FieldNode {
+                        distance: next_d,
+                        parent: cur as u32,
+                        source,
+                    };
+                    straight_queue.push((next_d, next as u32));
                 }
             }
             let next_d = d + DIAGONAL_COST;
@@ -211,8 +235,12 @@ impl DistanceField {
                     && cells[(cur as isize + b) as usize] == PASSABLE
                 {
                     state[next] = OPEN;
-                    nodes[next] = FieldNode { distance: next_d, parent: cur as u32, source };
-                    diagonal_queue.push_back((next_d, next as u32));
+                    nodes[next] = FieldNode {
+                        distance: next_d,
+                        parent: cur as u32,
+                        source,
+                    };
+                    diagonal_queue.push((next_d, next as u32));
                 }
             }
         }
@@ -253,12 +281,14 @@ impl DistanceField {
 
     /// Distance in metres (cells × the grid's resolution).
     pub fn distance_m(&self, cell: Cell) -> Option<f64> {
-        self.distance_cells(cell).map(|d| d * self.geometry.resolution_m)
+        self.distance_cells(cell)
+            .map(|d| d * self.geometry.resolution_m)
     }
 
     /// The source `cell` is priced from; `None` when unreachable.
     pub fn nearest_source(&self, cell: Cell) -> Option<Cell> {
-        self.index(cell).map(|i| self.sources[self.nodes[i].source as usize])
+        self.index(cell)
+            .map(|i| self.sources[self.nodes[i].source as usize])
     }
 
     /// A shortest path from `cell` to its nearest source (first cell `cell`, last the source),
@@ -274,7 +304,10 @@ impl DistanceField {
             }
             i = self.nodes[i].parent as usize;
         }
-        Some(GridPath { cells, length_cells })
+        Some(GridPath {
+            cells,
+            length_cells,
+        })
     }
 
     /// The whole field as a grid of distances in cells, `INFINITY` where unreachable.
