@@ -15,7 +15,7 @@
 //!
 //! Diagonal moves follow the same rule as A*: only when both orthogonal cells are passable.
 
-use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath};
+use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath, MAX_CELLS};
 use super::nav_grid::{NavGrid, PASSABLE};
 
 use super::open_list::Fifo;
@@ -98,8 +98,8 @@ impl DistanceField {
 
     /// Prices every cell of `grid` by its distance to the nearest of `sources`.
     ///
-    /// Sources that are blocked or outside the grid are ignored; with no usable source every cell
-    /// is unreachable. Ties between sources at equal distance go to the one listed first among
+    /// Sources that are blocked or outside the grid are ignored; with no usable source (or on a
+    /// grid of more than 2³² − 1 padded cells) every cell is unreachable. Ties between sources at equal distance go to the one listed first among
     /// those reaching the cell first (deterministic).
     pub fn compute(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
         let len = grid.cells().len();
@@ -107,6 +107,12 @@ impl DistanceField {
         self.stride = grid.stride();
         self.connectivity = connectivity;
         self.state.clear();
+        self.sources.clear();
+        self.reached = 0;
+        if len > MAX_CELLS {
+            // Nothing is reachable: `index` finds no state for any cell.
+            return;
+        }
         self.state.extend_from_slice(grid.cells());
         if self.nodes.len() < len {
             self.nodes.resize(len, UNSET);

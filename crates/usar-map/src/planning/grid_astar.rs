@@ -7,11 +7,22 @@
 //! orthogonal cells it passes are passable. The heuristics (Manhattan for 4-connected, octile
 //! `max(dx, dy) + (√2 − 1)·min(dx, dy)` for 8-connected) are consistent, so a closed cell is never
 //! reopened and the first time the goal is taken from the open list its g is optimal.
+//!
+//! g is summed in f64, so lengths match the MovingAI optima to rounding. The open list (see
+//! `open_list.rs`) is exact and O(1) per operation: with these costs and heuristics f changes by
+//! one of six values along a move, so one FIFO queue per value replaces the binary heap. Ties in f
+//! go to the larger g (the cell just reached, deeper along its path), which on open floors walks
+//! straight at the goal instead of fanning out over every cell of equal f.
+//!
+//! Grids are limited to 2³² − 1 cells including the border (cell indices are `u32`).
 
 use super::nav_grid::NavGrid;
 use super::open_list::{OpenEntry, OpenList};
 use serde::{Deserialize, Serialize};
 use usar_world::Cell;
+
+/// Most padded cells a planner handles (indices and parents are `u32`, `u32::MAX` = none).
+pub(crate) const MAX_CELLS: usize = u32::MAX as usize - 1;
 
 /// Cost of a diagonal move, cells.
 pub const DIAGONAL_COST: f64 = std::f64::consts::SQRT_2;
@@ -104,7 +115,7 @@ impl GridAStar {
     }
 
     /// A shortest path from `start` to `goal`, or `None` when either is blocked or outside the
-    /// grid, or the goal cannot be reached.
+    /// grid, or the goal cannot be reached (or the grid has more than 2³² − 1 padded cells).
     pub fn plan(
         &mut self,
         grid: &NavGrid,
@@ -113,7 +124,7 @@ impl GridAStar {
         connectivity: Connectivity,
     ) -> Option<GridPath> {
         self.expanded = 0;
-        if !grid.is_passable(start) || !grid.is_passable(goal) {
+        if !grid.is_passable(start) || !grid.is_passable(goal) || grid.cells().len() > MAX_CELLS {
             return None;
         }
         let h0 = connectivity.heuristic(start, goal);
