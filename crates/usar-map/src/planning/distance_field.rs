@@ -14,15 +14,22 @@
 //! search is a breadth-first search with unit costs.
 //!
 //! Diagonal moves follow the same rule as A*: only when both orthogonal cells are passable.
+//!
+//! Only the distance (8 bytes) and a state byte are kept per cell, so that the search touches
+//! as little memory as possible; paths back to a source are found by steepest descent: from a
+//! cell of distance d, step to the first neighbour (in [`usar_world::NEIGHBORS8`] order) whose
+//! distance plus the move's cost is d. The cell the search reached it from qualifies (its
+//! distance was summed exactly so), so the descent always reaches a source along a shortest path.
 
 use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath, MAX_CELLS};
-use super::nav_grid::{NavGrid, PASSABLE};
+use super::nav_grid::{BLOCKED, NavGrid, PASSABLE};
 
 use super::open_list::Fifo;
-use usar_world::{Cell, Grid, GridGeometry, Point2};
+use usar_world::{Cell, Grid, GridGeometry, NEIGHBORS8, Point2};
 
-/// Parent of a source cell and of unreached cells.
-const NO_PARENT: u32 = u32::MAX;
+/// Relative tolerance of the descent's test d(next) + cost = d(cell): the distances are exact
+/// sums, so this only absorbs a different summation order.
+const DESCENT_TOLERANCE: f64 = 1e-12;
 
 /// Search state of a cell: passable and not reached yet. The state buffer starts as a copy of
 /// the grid, so blocked cells hold 0 and free ones this value.
@@ -31,23 +38,6 @@ const UNREACHED: u8 = PASSABLE;
 const OPEN: u8 = 2;
 /// Search state of a cell: its distance is final.
 const SETTLED: u8 = 3;
-
-/// What the search learnt about one cell, 16 bytes so that a relaxation writes one cache line.
-#[derive(Clone, Copy, Debug)]
-struct FieldNode {
-    /// Distance to the nearest source, cells.
-    distance: f64,
-    /// Padded index of the next cell toward the source; [`NO_PARENT`] at sources.
-    parent: u32,
-    /// Index into `sources` of the source the cell is priced from.
-    source: u32,
-}
-
-const UNSET: FieldNode = FieldNode {
-    distance: f64::INFINITY,
-    parent: NO_PARENT,
-    source: 0,
-};
 
 /// Distances from a set of source cells to every cell of a [`NavGrid`].
 ///
@@ -58,8 +48,9 @@ pub struct DistanceField {
     geometry: GridGeometry,
     stride: usize,
     connectivity: Connectivity,
-    /// Per padded cell; meaningful where `state` is [`SETTLED`].
-    nodes: Vec<FieldNode>,
+    /// Distance to the nearest source, cells, per padded cell; meaningful where `state` is
+    /// [`SETTLED`] (or [`OPEN`] during the search).
+    distance: Vec<f64>,
     /// 0 (blocked), [`UNREACHED`], [`OPEN`] or [`SETTLED`] per padded cell.
     state: Vec<u8>,
     /// The passable sources, in the order given.
@@ -86,7 +77,7 @@ impl DistanceField {
             geometry: GridGeometry::new(0, 0, 1.0, Point2::new(0.0, 0.0)),
             stride: 2,
             connectivity: Connectivity::Four,
-            nodes: Vec::new(),
+            distance: Vec::new(),
             state: Vec::new(),
             frontier: Fifo::default(),
             sources: Vec::new(),
@@ -114,8 +105,8 @@ impl DistanceField {
             return;
         }
         self.state.extend_from_slice(grid.cells());
-        if self.nodes.len() < len {
-            self.nodes.resize(len, UNSET);
+        if self.distance.len() < len {
+            self.distance.resize(len, f64::INFINITY);
         }
         self.sources.clear();
         self.frontier.clear();
@@ -135,11 +126,7 @@ impl DistanceField {
                 Connectivity::Four => SETTLED,
                 Connectivity::Eight => OPEN,
             };
-            self.nodes[i] = FieldNode {
-                distance: 0.0,
-                parent: NO_PARENT,
-                source: self.sources.len() as u32,
-            };
+            self.distance[i] = 0.0;
             self.sources.push(s);
             match connectivity {
                 Connectivity::Four => self.frontier.push(i as u32),
@@ -157,23 +144,18 @@ impl DistanceField {
         let s = self.stride as isize;
         let offsets = [1isize, s, -1, -s];
         // Locals, so that the compiler keeps the buffers in registers.
-        let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
+        let (state, distance) = (&mut self.state[..], &mut self.distance[..]);
         let frontier = &mut self.frontier;
         let mut reached = 0;
         while let Some(cur) = frontier.pop() {
             let cur = cur as usize;
             reached += 1;
-            let here = nodes[cur];
-            let reached_next = FieldNode {
-                distance: here.distance + 1.0,
-                parent: cur as u32,
-                source: here.source,
-            };
+            let next_d = distance[cur] + 1.0;
             for &o in &offsets {
                 let next = (cur as isize + o) as usize;
                 if state[next] == UNREACHED {
                     state[next] = SETTLED;
-                    nodes[next] = reached_next;
+                    distance[next] = next_d;
                     frontier.push(next as u32);
                 }
             }
@@ -193,7 +175,7 @@ impl DistanceField {
             (-s - 1, -1, -s),
             (-s + 1, 1, -s),
         ];
-        let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
+        let (state, distance) = (&mut self.state[..], &mut self.distance[..]);
         let (straight_queue, diagonal_queue) = (&mut self.straight_queue, &mut self.diagonal_queue);
         let mut reached = 0;
         loop {
@@ -212,23 +194,18 @@ impl DistanceField {
             let cur = cur as usize;
             // A cell is queued again only with a strictly smaller distance, so exactly one of its
             // entries carries its final distance: the others are stale.
-            if state[cur] != OPEN || d > nodes[cur].distance {
+            if state[cur] != OPEN || d > distance[cur] {
                 continue;
             }
             state[cur] = SETTLED;
             reached += 1;
-            let source = nodes[cur].source;
             let next_d = d + 1.0;
             for &o in &straight {
                 let next = (cur as isize + o) as usize;
                 let st = state[next];
-                if st == UNREACHED || (st == OPEN && next_d < nodes[next].distance) {
+                if st == UNREACHED || (st == OPEN && next_d < distance[next]) {
                     state[next] = OPEN;
-                    nodes[next] = FieldNode {
-                        distance: next_d,
-                        parent: cur as u32,
-                        source,
-                    };
+                    distance[next] = next_d;
                     straight_queue.push((next_d, next as u32));
                 }
             }
@@ -236,16 +213,12 @@ impl DistanceField {
             for &(o, a, b) in &diagonal {
                 let next = (cur as isize + o) as usize;
                 let st = state[next];
-                if (st == UNREACHED || (st == OPEN && next_d < nodes[next].distance))
+                if (st == UNREACHED || (st == OPEN && next_d < distance[next]))
                     && cells[(cur as isize + a) as usize] == PASSABLE
                     && cells[(cur as isize + b) as usize] == PASSABLE
                 {
                     state[next] = OPEN;
-                    nodes[next] = FieldNode {
-                        distance: next_d,
-                        parent: cur as u32,
-                        source,
-                    };
+                    distance[next] = next_d;
                     diagonal_queue.push((next_d, next as u32));
                 }
             }
@@ -282,7 +255,7 @@ impl DistanceField {
 
     /// Distance in cells from `cell` to its nearest source; `None` when unreachable or outside.
     pub fn distance_cells(&self, cell: Cell) -> Option<f64> {
-        self.index(cell).map(|i| self.nodes[i].distance)
+        self.index(cell).map(|i| self.distance[i])
     }
 
     /// Distance in metres (cells × the grid's resolution).
@@ -291,24 +264,50 @@ impl DistanceField {
             .map(|d| d * self.geometry.resolution_m)
     }
 
-    /// The source `cell` is priced from; `None` when unreachable.
+    /// A nearest source of `cell` (the end of [`DistanceField::path_to_source`]); `None` when
+    /// unreachable. Costs one descent, O(path length).
     pub fn nearest_source(&self, cell: Cell) -> Option<Cell> {
-        self.index(cell)
-            .map(|i| self.sources[self.nodes[i].source as usize])
+        self.path_to_source(cell)
+            .and_then(|p| p.cells.last().copied())
     }
 
-    /// A shortest path from `cell` to its nearest source (first cell `cell`, last the source),
-    /// following the parents the search recorded.
+    /// A shortest path from `cell` to a nearest source (first cell `cell`, last the source), by
+    /// steepest descent over the distances.
     pub fn path_to_source(&self, cell: Cell) -> Option<GridPath> {
         let mut i = self.index(cell)?;
-        let length_cells = self.nodes[i].distance;
-        let mut cells = Vec::new();
-        loop {
-            cells.push(self.cell_of_padded(i));
-            if self.nodes[i].parent == NO_PARENT {
-                break;
+        let length_cells = self.distance[i];
+        let s = self.stride as isize;
+        let eight = self.connectivity == Connectivity::Eight;
+        let passable = |j: isize| self.state[j as usize] != BLOCKED;
+        let mut cells = vec![self.cell_of_padded(i)];
+        while self.distance[i] > 0.0 {
+            let d = self.distance[i];
+            let here = i as isize;
+            let mut step = None;
+            for (dc, dr) in NEIGHBORS8 {
+                let diagonal = dc != 0 && dr != 0;
+                if diagonal && !eight {
+                    break;
+                }
+                let next = here + dc as isize + dr as isize * s;
+                if self.state[next as usize] != SETTLED
+                    || (diagonal
+                        && !(passable(here + dc as isize) && passable(here + dr as isize * s)))
+                {
+                    continue;
+                }
+                let cost = if diagonal { DIAGONAL_COST } else { 1.0 };
+                if (self.distance[next as usize] + cost - d).abs() <= DESCENT_TOLERANCE * d.max(1.0)
+                {
+                    step = Some(next as usize);
+                    break;
+                }
             }
-            i = self.nodes[i].parent as usize;
+            // The cell the search reached `i` from always qualifies; stop rather than loop if
+            // the buffers were ever inconsistent.
+            let next = step?;
+            i = next;
+            cells.push(self.cell_of_padded(i));
         }
         Some(GridPath {
             cells,
@@ -325,10 +324,10 @@ impl DistanceField {
             for (row, dst) in out.as_mut_slice().chunks_exact_mut(w).enumerate() {
                 let start = (row + 1) * self.stride + 1;
                 let states = &self.state[start..start + w];
-                let nodes = &self.nodes[start..start + w];
-                for ((d, &st), node) in dst.iter_mut().zip(states).zip(nodes) {
+                let distances = &self.distance[start..start + w];
+                for ((d, &st), &dist) in dst.iter_mut().zip(states).zip(distances) {
                     if st == SETTLED {
-                        *d = node.distance;
+                        *d = dist;
                     }
                 }
             }
