@@ -21,7 +21,7 @@ use super::open_list::{OpenEntry, OpenList};
 use serde::{Deserialize, Serialize};
 use usar_world::Cell;
 
-/// Most padded cells a planner handles (indices and parents are `u32`, `u32::MAX` = none).
+/// Most padded cells a planner handles (cell indices are `u32`).
 pub(crate) const MAX_CELLS: usize = u32::MAX as usize - 1;
 
 /// Cost of a diagonal move, cells.
@@ -89,8 +89,6 @@ pub struct GridAStar {
     stamp: Vec<u16>,
     /// Best cost found from the start, cells; valid where `stamp` is this search's.
     g: Vec<f64>,
-    /// Padded index of the cell each one was reached from (`u32::MAX` for the start).
-    parent: Vec<u32>,
     open: OpenList,
     search: u16,
     expanded: usize,
@@ -143,7 +141,6 @@ impl GridAStar {
         let mut search = Search {
             stamp: &mut self.stamp[..],
             g: &mut self.g[..],
-            parent: &mut self.parent[..],
             open: &mut self.open,
             open_stamp,
             closed_stamp,
@@ -151,7 +148,6 @@ impl GridAStar {
         };
         search.stamp[start_i] = open_stamp;
         search.g[start_i] = 0.0;
-        search.parent[start_i] = u32::MAX;
         search.open.push(
             OpenEntry {
                 f: h0,
@@ -187,13 +183,13 @@ impl GridAStar {
                 moves &= moves - 1;
                 let (offset, dc, dr, cost) = move_table[k];
                 let next = (cur as isize + offset) as usize;
-                search.relax(next, cur, g_cur + cost, || {
+                search.relax(next, g_cur + cost, || {
                     heuristic_padded(eight, col + dc - goal_col, row + dr - goal_row)
                 });
             }
         }
         self.expanded = expanded;
-        found.then(|| self.reconstruct(grid, goal_i))
+        found.then(|| self.reconstruct(grid, goal_i, eight))
     }
 
     /// Grows the scratch buffers to `len` padded cells and starts a new search stamp.
@@ -201,7 +197,6 @@ impl GridAStar {
         if self.stamp.len() < len {
             self.stamp.resize(len, 0);
             self.g.resize(len, f64::INFINITY);
-            self.parent.resize(len, u32::MAX);
         }
         self.open.clear();
         // Stamps 2·search and 2·search + 1 must not collide with older ones.
@@ -212,12 +207,35 @@ impl GridAStar {
         self.search += 1;
     }
 
-    fn reconstruct(&self, grid: &NavGrid, goal_i: usize) -> GridPath {
-        let mut cells = Vec::new();
-        let mut i = goal_i as u32;
-        while i != u32::MAX {
-            cells.push(grid.cell_of_padded(i as usize));
-            i = self.parent[i as usize];
+    /// The path from the start to `goal_i`, by steepest descent over g from the goal: step to
+    /// the first closed neighbour (allowed move, in [`usar_world::NEIGHBORS8`] order) whose g plus
+    /// the move's cost is this cell's g. Closed cells have optimal g (consistent heuristic), and
+    /// the cell a cell was opened from always qualifies, so no parent array is needed.
+    fn reconstruct(&self, grid: &NavGrid, goal_i: usize, eight: bool) -> GridPath {
+        let closed_stamp = 2 * self.search + 1;
+        let move_table = grid.move_table();
+        let mut i = goal_i;
+        let mut cells = vec![grid.cell_of_padded(i)];
+        while self.g[i] > 0.0 {
+            let g = self.g[i];
+            let mut moves = grid.allowed_moves(i, eight);
+            let mut step = None;
+            while moves != 0 {
+                let k = moves.trailing_zeros() as usize;
+                moves &= moves - 1;
+                let (offset, _, _, cost) = move_table[k];
+                let next = (i as isize + offset) as usize;
+                if self.stamp[next] == closed_stamp
+                    && (self.g[next] + cost - g).abs() <= RECONSTRUCT_TOLERANCE * g
+                {
+                    step = Some(next);
+                    break;
+                }
+            }
+            // Some closed neighbour always qualifies; never loop if that were ever violated.
+            let Some(next) = step else { break };
+            i = next;
+            cells.push(grid.cell_of_padded(i));
         }
         cells.reverse();
         GridPath {
@@ -227,11 +245,14 @@ impl GridAStar {
     }
 }
 
+/// Relative tolerance of the reconstruction's test g(next) + cost = g(cell): g values are exact
+/// sums, so this only absorbs a different summation order.
+const RECONSTRUCT_TOLERANCE: f64 = 1e-12;
+
 /// The buffers of one search, borrowed apart so that the hot loop keeps them in registers.
 struct Search<'a> {
     stamp: &'a mut [u16],
     g: &'a mut [f64],
-    parent: &'a mut [u32],
     open: &'a mut OpenList,
     open_stamp: u16,
     closed_stamp: u16,
@@ -243,7 +264,7 @@ impl Search<'_> {
     /// Opens `next`, reached from `cur` at cost `g_next`, unless it is closed or already open
     /// at a cost no higher; `h` computes its heuristic, only when it is opened.
     #[inline(always)]
-    fn relax(&mut self, next: usize, cur: usize, g_next: f64, h: impl FnOnce() -> f64) {
+    fn relax(&mut self, next: usize, g_next: f64, h: impl FnOnce() -> f64) {
         let st = self.stamp[next];
         if st == self.closed_stamp || (st == self.open_stamp && self.g[next] <= g_next) {
             return;
@@ -251,7 +272,6 @@ impl Search<'_> {
         let h = h();
         self.stamp[next] = self.open_stamp;
         self.g[next] = g_next;
-        self.parent[next] = cur as u32;
         self.open.push(
             OpenEntry {
                 f: g_next + h,
