@@ -6,20 +6,24 @@
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
-use usar_map::planning::bench_grid::{
-    BENCH_INFLATION_M, corner_cells, synthetic_building_walls,
-};
+use usar_map::planning::bench_grid::{BENCH_INFLATION_M, corner_cells, synthetic_building_walls};
 use usar_map::planning::{
     Connectivity, DistanceField, GridAStar, NavGrid, check_scenarios, inflate,
 };
 
+/// Timed runs of each step (`PLANNING_SPEED_RUNS` overrides).
 const RUNS: usize = 15;
 
-/// Median and minimum of `RUNS` timings of `f`, milliseconds.
+/// Median and minimum of the timings of `f`, milliseconds.
 fn time<T>(mut f: impl FnMut() -> T) -> (f64, f64, T) {
+    let runs: usize = std::env::var("PLANNING_SPEED_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or(RUNS);
     let mut times: Vec<Duration> = Vec::new();
     let mut last = None;
-    for _ in 0..RUNS {
+    for _ in 0..runs {
         let t = Instant::now();
         let out = f();
         times.push(t.elapsed());
@@ -27,7 +31,11 @@ fn time<T>(mut f: impl FnMut() -> T) -> (f64, f64, T) {
     }
     times.sort();
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
-    (ms(times[RUNS / 2]), ms(times[0]), last.expect("RUNS > 0"))
+    (
+        ms(times[runs / 2]),
+        ms(times[0]),
+        last.expect("at least one run"),
+    )
 }
 
 fn main() {
@@ -38,7 +46,10 @@ fn main() {
     let walls = synthetic_building_walls(1000, 1000, seed);
     let (median, min, blocked) = time(|| inflate(&walls, BENCH_INFLATION_M));
     let blocked_share = blocked.as_slice().iter().filter(|&&b| b).count() as f64 / 1e6;
-    println!("synthetic building 1000x1000, seed {seed}: {:.1}% blocked after inflation", 100.0 * blocked_share);
+    println!(
+        "synthetic building 1000x1000, seed {seed}: {:.1}% blocked after inflation",
+        100.0 * blocked_share
+    );
     println!("inflate 0.3 m (3 cells):            median {median:7.2} ms  min {min:7.2} ms");
     let (median, min, _) = time(|| inflate(&walls, 0.5));
     println!("inflate 0.5 m (5 cells):            median {median:7.2} ms  min {min:7.2} ms");
@@ -61,7 +72,9 @@ fn main() {
     for connectivity in [Connectivity::Four, Connectivity::Eight] {
         let (median, min, _) = time(|| field.compute(&grid, &[start], connectivity));
         let mut check = GridAStar::new();
-        let a = check.plan(&grid, start, goal, connectivity).map(|p| p.length_cells);
+        let a = check
+            .plan(&grid, start, goal, connectivity)
+            .map(|p| p.length_cells);
         println!(
             "DistanceField {connectivity:?}: median {median:7.2} ms  min {min:7.2} ms  reached {:>7}  to goal {:.6} (A* {:.6})",
             field.reached_count(),

@@ -40,18 +40,33 @@ fn real_maps_load_with_the_top_file_row_as_our_top_row() {
         assert_eq!((map.width, map.height), (side, side), "{name}");
         // Compare every cell with the raw text, independently of the loader.
         let text = std::fs::read_to_string(&path).unwrap();
-        let rows: Vec<&str> = text.lines().skip(4).map(|l| l.trim_end_matches('\r')).collect();
+        let rows: Vec<&str> = text
+            .lines()
+            .skip(4)
+            .map(|l| l.trim_end_matches('\r'))
+            .collect();
         assert_eq!(rows.len(), side as usize, "{name}");
         let mut passable = 0;
         for (y, row) in rows.iter().enumerate() {
             for (x, ch) in row.chars().enumerate() {
                 let free = matches!(ch, '.' | 'G');
                 passable += usize::from(free);
-                assert_eq!(map.is_passable_at(x as u32, y as u32), free, "{name} ({x}, {y})");
-                assert_eq!(map.passable[Cell::new(x as i32, side as i32 - 1 - y as i32)], free);
+                assert_eq!(
+                    map.is_passable_at(x as u32, y as u32),
+                    free,
+                    "{name} ({x}, {y})"
+                );
+                assert_eq!(
+                    map.passable[Cell::new(x as i32, side as i32 - 1 - y as i32)],
+                    free
+                );
             }
         }
-        assert_eq!(map.passable.as_slice().iter().filter(|&&p| p).count(), passable, "{name}");
+        assert_eq!(
+            map.passable.as_slice().iter().filter(|&&p| p).count(),
+            passable,
+            "{name}"
+        );
         assert!(passable > 0, "{name}");
     }
 }
@@ -118,7 +133,10 @@ fn bad_header_is_rejected_naming_the_line() {
 #[test]
 fn short_or_long_row_is_rejected_naming_the_line() {
     let m = map_err("type octile\nheight 2\nwidth 3\nmap\n...\n..\n");
-    assert!(m.contains("line 6") && m.contains("2 characters, expected 3"), "{m}");
+    assert!(
+        m.contains("line 6") && m.contains("2 characters, expected 3"),
+        "{m}"
+    );
     let m = map_err("type octile\nheight 1\nwidth 3\nmap\n....\n");
     assert!(m.contains("line 5") && m.contains("4 characters"), "{m}");
 }
@@ -136,7 +154,11 @@ fn missing_and_extra_rows_are_rejected() {
     let m = map_err("type octile\nheight 1\nwidth 1\nmap\n.\n.\n");
     assert!(m.contains("line 6") && m.contains("more than 1"), "{m}");
     // Trailing blank lines are fine.
-    parse_movingai_map("type octile\nheight 1\nwidth 1\nmap\n.\n\n\n", Path::new("ok.map")).unwrap();
+    parse_movingai_map(
+        "type octile\nheight 1\nwidth 1\nmap\n.\n\n\n",
+        Path::new("ok.map"),
+    )
+    .unwrap();
 }
 
 #[test]
@@ -162,16 +184,20 @@ fn to_scene_walls_blocked_cells_and_starts_in_the_largest_component() {
     assert_eq!(scene.start_poses.len(), 1);
     let start = scene.start_poses[0];
     // First cell of the big component in row-major order: (2, 0), centre (1.25, 0.25).
-    assert!((start.x - 1.25).abs() < 1e-12 && (start.y - 0.25).abs() < 1e-12, "{start:?}");
+    assert!(
+        (start.x - 1.25).abs() < 1e-12 && (start.y - 0.25).abs() < 1e-12,
+        "{start:?}"
+    );
     assert_eq!(scene.provenance.source, "import");
     assert!((scene.reachable_area_m2() - 9.0 * 0.25).abs() < 1e-12);
 
     let err = map.to_scene("x", 0.0).unwrap_err().to_string();
     assert!(err.contains("resolution_m"), "{err}");
-    let all_blocked = parse_movingai_map("type octile\nheight 1\nwidth 1\nmap\n@\n", Path::new("b"))
-        .unwrap()
-        .to_scene("b", 1.0)
-        .unwrap();
+    let all_blocked =
+        parse_movingai_map("type octile\nheight 1\nwidth 1\nmap\n@\n", Path::new("b"))
+            .unwrap()
+            .to_scene("b", 1.0)
+            .unwrap();
     assert!(all_blocked.start_poses.is_empty());
 }
 
@@ -186,7 +212,12 @@ fn real_scenario_files_parse_completely() {
     ] {
         let scenarios = read_scenarios(movingai_dir().join(name)).unwrap();
         assert_eq!(scenarios.len(), count, "{name}");
-        assert!(scenarios.iter().all(|s| s.optimal_length >= 0.0 && s.line >= 2), "{name}");
+        assert!(
+            scenarios
+                .iter()
+                .all(|s| s.optimal_length >= 0.0 && s.line >= 2),
+            "{name}"
+        );
     }
     let maze = read_scenarios(movingai_dir().join("maze-32-32-2-random-1.scen")).unwrap();
     let first = &maze[0];
@@ -210,7 +241,10 @@ fn scenario_versions_one_and_one_point_zero_are_accepted() {
         assert_eq!(s[0].goal, (2, 3));
     }
     let err = parse_scenarios(&format!("version 2\n{row}"), Path::new("a.scen")).unwrap_err();
-    assert!(matches!(err, WorldError::UnsupportedVersion { .. }), "{err}");
+    assert!(
+        matches!(err, WorldError::UnsupportedVersion { .. }),
+        "{err}"
+    );
     let m = scen_err(&format!("0\tm.map\n{row}"));
     assert!(m.contains("line 1") && m.contains("version 1"), "{m}");
     let m = scen_err("");
@@ -220,13 +254,19 @@ fn scenario_versions_one_and_one_point_zero_are_accepted() {
 #[test]
 fn bad_scenario_rows_are_rejected_naming_line_and_column() {
     let m = scen_err("version 1\n0\tm.map\t4\t4\t0\t1\t2\t3\t3.5\n0\tm.map\t4\t4\tx\t1\t2\t3\t1\n");
-    assert!(m.contains("line 3, column 5 (start x)") && m.contains("`x`"), "{m}");
+    assert!(
+        m.contains("line 3, column 5 (start x)") && m.contains("`x`"),
+        "{m}"
+    );
     let m = scen_err("version 1\n0\tm.map\t4\t4\t0\t1\t2\t3\tlong\n");
     assert!(m.contains("line 2, column 9 (optimal length)"), "{m}");
     let m = scen_err("version 1\n0\tm.map\t4\t4\t0\t1\t2\n");
     assert!(m.contains("line 2") && m.contains("found 7"), "{m}");
     let m = scen_err("version 1\n0\tm.map\t4\t4\t0\t4\t2\t3\t1\n");
-    assert!(m.contains("column 6 (start y)") && m.contains("below the map height 4"), "{m}");
+    assert!(
+        m.contains("column 6 (start y)") && m.contains("below the map height 4"),
+        "{m}"
+    );
     let m = scen_err("version 1\n-1\tm.map\t4\t4\t0\t1\t2\t3\t1\n");
     assert!(m.contains("column 1 (bucket)"), "{m}");
     let m = scen_err("version 1\n0\t\t4\t4\t0\t1\t2\t3\t1\n");

@@ -40,13 +40,20 @@ fn cells(m: f64) -> usize {
 ///
 /// The same arguments always give the same grid. Floors below ~5 m a side hold a single room.
 pub fn synthetic_building(width: u32, height: u32, seed: u64) -> Grid<bool> {
-    inflate(&synthetic_building_walls(width, height, seed), BENCH_INFLATION_M)
+    inflate(
+        &synthetic_building_walls(width, height, seed),
+        BENCH_INFLATION_M,
+    )
 }
 
 /// The floor of [`synthetic_building`] before inflation: walls and furniture only.
 pub fn synthetic_building_walls(width: u32, height: u32, seed: u64) -> Grid<bool> {
     let geometry = GridGeometry::new(width, height, BENCH_RESOLUTION_M, Point2::new(0.0, 0.0));
-    let mut floor = Floor { grid: Grid::filled(geometry, false), width, height };
+    let mut floor = Floor {
+        grid: Grid::filled(geometry, false),
+        width,
+        height,
+    };
     if geometry.is_empty() {
         return floor.grid;
     }
@@ -54,9 +61,21 @@ pub fn synthetic_building_walls(width: u32, height: u32, seed: u64) -> Grid<bool
     let wall = cells(BENCH_WALL_M);
     // Outer wall.
     floor.fill(0, 0, width as usize, wall, true);
-    floor.fill(0, height as usize - wall.min(height as usize), width as usize, height as usize, true);
+    floor.fill(
+        0,
+        height as usize - wall.min(height as usize),
+        width as usize,
+        height as usize,
+        true,
+    );
     floor.fill(0, 0, wall, height as usize, true);
-    floor.fill(width as usize - wall.min(width as usize), 0, width as usize, height as usize, true);
+    floor.fill(
+        width as usize - wall.min(width as usize),
+        0,
+        width as usize,
+        height as usize,
+        true,
+    );
 
     let xs = split_with_corridors(&mut rng, wall, width as usize - wall.min(width as usize));
     let ys = split_with_corridors(&mut rng, wall, height as usize - wall.min(height as usize));
@@ -176,7 +195,13 @@ impl Floor {
                 let lo = ry0 + wall + door_margin;
                 let hi = (ry1 - wall).saturating_sub(door_margin).max(lo);
                 let c = rng.random_range(lo..=hi);
-                self.fill(x - wall / 2, c - door / 2, x + wall - wall / 2, c + door - door / 2, false);
+                self.fill(
+                    x - wall / 2,
+                    c - door / 2,
+                    x + wall - wall / 2,
+                    c + door - door / 2,
+                    false,
+                );
             }
             // Wall below the row (between it and the previous one) with one door in the longest
             // stretch free of junctions with the walls of either row.
@@ -194,7 +219,13 @@ impl Floor {
                 let lo = s0 + wall + door_margin;
                 let hi = s1.saturating_sub(wall + door_margin).max(lo);
                 let c = rng.random_range(lo..=hi);
-                self.fill(c - door / 2, ry0 - wall / 2, c + door - door / 2, ry0 + wall - wall / 2, false);
+                self.fill(
+                    c - door / 2,
+                    ry0 - wall / 2,
+                    c + door - door / 2,
+                    ry0 + wall - wall / 2,
+                    false,
+                );
             }
             for &(cx0, cx1) in &columns {
                 let room = (cx0, cx1, ry0, ry1);
@@ -222,7 +253,8 @@ impl Floor {
             }
         }
         if doors == 0 && !corridor_sides.is_empty() {
-            let (room, vertical, low_side) = corridor_sides[rng.random_range(0..corridor_sides.len())];
+            let (room, vertical, low_side) =
+                corridor_sides[rng.random_range(0..corridor_sides.len())];
             self.corridor_door(rng, b, room, vertical, low_side);
         }
     }

@@ -14,14 +14,22 @@
 //! search is a breadth-first search with unit costs.
 //!
 //! Diagonal moves follow the same rule as A*: only when both orthogonal cells are passable.
+//!
+//! Only the distance (8 bytes) and a state byte are kept per cell, so that the search touches
+//! as little memory as possible; paths back to a source are found by steepest descent: from a
+//! cell of distance d, step to the first neighbour (in [`usar_world::NEIGHBORS8`] order) whose
+//! distance plus the move's cost is d. The cell the search reached it from qualifies (its
+//! distance was summed exactly so), so the descent always reaches a source along a shortest path.
 
-use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath};
-use super::nav_grid::{NavGrid, PASSABLE};
-use std::collections::VecDeque;
-use usar_world::{Cell, Grid, GridGeometry, Point2};
+use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath, MAX_CELLS};
+use super::nav_grid::{BLOCKED, NavGrid, PASSABLE};
 
-/// Parent of a source cell and of unreached cells.
-const NO_PARENT: u32 = u32::MAX;
+use super::open_list::Fifo;
+use usar_world::{Cell, Grid, GridGeometry, NEIGHBORS8, Point2};
+
+/// Relative tolerance of the descent's test d(next) + cost = d(cell): the distances are exact
+/// sums, so this only absorbs a different summation order.
+const DESCENT_TOLERANCE: f64 = 1e-12;
 
 /// Search state of a cell: passable and not reached yet. The state buffer starts as a copy of
 /// the grid, so blocked cells hold 0 and free ones this value.
@@ -30,19 +38,6 @@ const UNREACHED: u8 = PASSABLE;
 const OPEN: u8 = 2;
 /// Search state of a cell: its distance is final.
 const SETTLED: u8 = 3;
-
-/// What the search learnt about one cell, 16 bytes so that a relaxation writes one cache line.
-#[derive(Clone, Copy, Debug)]
-struct FieldNode {
-    /// Distance to the nearest source, cells.
-    distance: f64,
-    /// Padded index of the next cell toward the source; [`NO_PARENT`] at sources.
-    parent: u32,
-    /// Index into `sources` of the source the cell is priced from.
-    source: u32,
-}
-
-const UNSET: FieldNode = FieldNode { distance: f64::INFINITY, parent: NO_PARENT, source: 0 };
 
 /// Distances from a set of source cells to every cell of a [`NavGrid`].
 ///
@@ -53,18 +48,19 @@ pub struct DistanceField {
     geometry: GridGeometry,
     stride: usize,
     connectivity: Connectivity,
-    /// Per padded cell; meaningful where `state` is [`SETTLED`].
-    nodes: Vec<FieldNode>,
+    /// Distance to the nearest source, cells, per padded cell; meaningful where `state` is
+    /// [`SETTLED`] (or [`OPEN`] during the search).
+    distance: Vec<f64>,
     /// 0 (blocked), [`UNREACHED`], [`OPEN`] or [`SETTLED`] per padded cell.
     state: Vec<u8>,
     /// The passable sources, in the order given.
     sources: Vec<Cell>,
     /// Breadth-first queue ([`Connectivity::Four`]).
-    frontier: VecDeque<u32>,
+    frontier: Fifo<u32>,
     /// Cells opened by a straight move, with their distance (sorted by it).
-    straight_queue: VecDeque<(f64, u32)>,
+    straight_queue: Fifo<(f64, u32)>,
     /// Cells opened by a diagonal move, with their distance (sorted by it).
-    diagonal_queue: VecDeque<(f64, u32)>,
+    diagonal_queue: Fifo<(f64, u32)>,
     reached: usize,
 }
 
@@ -81,20 +77,20 @@ impl DistanceField {
             geometry: GridGeometry::new(0, 0, 1.0, Point2::new(0.0, 0.0)),
             stride: 2,
             connectivity: Connectivity::Four,
-            nodes: Vec::new(),
+            distance: Vec::new(),
             state: Vec::new(),
-            frontier: VecDeque::new(),
+            frontier: Fifo::default(),
             sources: Vec::new(),
-            straight_queue: VecDeque::new(),
-            diagonal_queue: VecDeque::new(),
+            straight_queue: Fifo::default(),
+            diagonal_queue: Fifo::default(),
             reached: 0,
         }
     }
 
     /// Prices every cell of `grid` by its distance to the nearest of `sources`.
     ///
-    /// Sources that are blocked or outside the grid are ignored; with no usable source every cell
-    /// is unreachable. Ties between sources at equal distance go to the one listed first among
+    /// Sources that are blocked or outside the grid are ignored; with no usable source (or on a
+    /// grid of more than 2³² − 1 padded cells) every cell is unreachable. Ties between sources at equal distance go to the one listed first among
     /// those reaching the cell first (deterministic).
     pub fn compute(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
         let len = grid.cells().len();
@@ -102,9 +98,15 @@ impl DistanceField {
         self.stride = grid.stride();
         self.connectivity = connectivity;
         self.state.clear();
+        self.sources.clear();
+        self.reached = 0;
+        if len > MAX_CELLS {
+            // Nothing is reachable: `index` finds no state for any cell.
+            return;
+        }
         self.state.extend_from_slice(grid.cells());
-        if self.nodes.len() < len {
-            self.nodes.resize(len, UNSET);
+        if self.distance.len() < len {
+            self.distance.resize(len, f64::INFINITY);
         }
         self.sources.clear();
         self.frontier.clear();
@@ -124,12 +126,11 @@ impl DistanceField {
                 Connectivity::Four => SETTLED,
                 Connectivity::Eight => OPEN,
             };
-            self.nodes[i] =
-                FieldNode { distance: 0.0, parent: NO_PARENT, source: self.sources.len() as u32 };
+            self.distance[i] = 0.0;
             self.sources.push(s);
             match connectivity {
-                Connectivity::Four => self.frontier.push_back(i as u32),
-                Connectivity::Eight => self.straight_queue.push_back((0.0, i as u32)),
+                Connectivity::Four => self.frontier.push(i as u32),
+                Connectivity::Eight => self.straight_queue.push((0.0, i as u32)),
             }
         }
         match connectivity {
@@ -143,21 +144,19 @@ impl DistanceField {
         let s = self.stride as isize;
         let offsets = [1isize, s, -1, -s];
         // Locals, so that the compiler keeps the buffers in registers.
-        let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
+        let (state, distance) = (&mut self.state[..], &mut self.distance[..]);
         let frontier = &mut self.frontier;
         let mut reached = 0;
-        while let Some(cur) = frontier.pop_front() {
+        while let Some(cur) = frontier.pop() {
             let cur = cur as usize;
             reached += 1;
-            let here = nodes[cur];
-            let reached_next =
-                FieldNode { distance: here.distance + 1.0, parent: cur as u32, source: here.source };
+            let next_d = distance[cur] + 1.0;
             for &o in &offsets {
                 let next = (cur as isize + o) as usize;
                 if state[next] == UNREACHED {
                     state[next] = SETTLED;
-                    nodes[next] = reached_next;
-                    frontier.push_back(next as u32);
+                    distance[next] = next_d;
+                    frontier.push(next as u32);
                 }
             }
         }
@@ -170,8 +169,13 @@ impl DistanceField {
         let s = self.stride as isize;
         let straight = [1isize, s, -1, -s];
         // (offset, the two orthogonal cells the diagonal passes)
-        let diagonal = [(s + 1, 1, s), (s - 1, -1, s), (-s - 1, -1, -s), (-s + 1, 1, -s)];
-        let (state, nodes) = (&mut self.state[..], &mut self.nodes[..]);
+        let diagonal = [
+            (s + 1, 1, s),
+            (s - 1, -1, s),
+            (-s - 1, -1, -s),
+            (-s + 1, 1, -s),
+        ];
+        let (state, distance) = (&mut self.state[..], &mut self.distance[..]);
         let (straight_queue, diagonal_queue) = (&mut self.straight_queue, &mut self.diagonal_queue);
         let mut reached = 0;
         loop {
@@ -181,38 +185,41 @@ impl DistanceField {
                 (None, Some(_)) => false,
                 (Some(a), Some(b)) => a.0 <= b.0,
             };
-            let queue = if from_straight { &mut *straight_queue } else { &mut *diagonal_queue };
-            let Some((d, cur)) = queue.pop_front() else { break };
+            let queue = if from_straight {
+                &mut *straight_queue
+            } else {
+                &mut *diagonal_queue
+            };
+            let Some((d, cur)) = queue.pop() else { break };
             let cur = cur as usize;
             // A cell is queued again only with a strictly smaller distance, so exactly one of its
             // entries carries its final distance: the others are stale.
-            if state[cur] != OPEN || d > nodes[cur].distance {
+            if state[cur] != OPEN || d > distance[cur] {
                 continue;
             }
             state[cur] = SETTLED;
             reached += 1;
-            let source = nodes[cur].source;
             let next_d = d + 1.0;
             for &o in &straight {
                 let next = (cur as isize + o) as usize;
                 let st = state[next];
-                if st == UNREACHED || (st == OPEN && next_d < nodes[next].distance) {
+                if st == UNREACHED || (st == OPEN && next_d < distance[next]) {
                     state[next] = OPEN;
-                    nodes[next] = FieldNode { distance: next_d, parent: cur as u32, source };
-                    straight_queue.push_back((next_d, next as u32));
+                    distance[next] = next_d;
+                    straight_queue.push((next_d, next as u32));
                 }
             }
             let next_d = d + DIAGONAL_COST;
             for &(o, a, b) in &diagonal {
                 let next = (cur as isize + o) as usize;
                 let st = state[next];
-                if (st == UNREACHED || (st == OPEN && next_d < nodes[next].distance))
+                if (st == UNREACHED || (st == OPEN && next_d < distance[next]))
                     && cells[(cur as isize + a) as usize] == PASSABLE
                     && cells[(cur as isize + b) as usize] == PASSABLE
                 {
                     state[next] = OPEN;
-                    nodes[next] = FieldNode { distance: next_d, parent: cur as u32, source };
-                    diagonal_queue.push_back((next_d, next as u32));
+                    distance[next] = next_d;
+                    diagonal_queue.push((next_d, next as u32));
                 }
             }
         }
@@ -248,33 +255,64 @@ impl DistanceField {
 
     /// Distance in cells from `cell` to its nearest source; `None` when unreachable or outside.
     pub fn distance_cells(&self, cell: Cell) -> Option<f64> {
-        self.index(cell).map(|i| self.nodes[i].distance)
+        self.index(cell).map(|i| self.distance[i])
     }
 
     /// Distance in metres (cells × the grid's resolution).
     pub fn distance_m(&self, cell: Cell) -> Option<f64> {
-        self.distance_cells(cell).map(|d| d * self.geometry.resolution_m)
+        self.distance_cells(cell)
+            .map(|d| d * self.geometry.resolution_m)
     }
 
-    /// The source `cell` is priced from; `None` when unreachable.
+    /// A nearest source of `cell` (the end of [`DistanceField::path_to_source`]); `None` when
+    /// unreachable. Costs one descent, O(path length).
     pub fn nearest_source(&self, cell: Cell) -> Option<Cell> {
-        self.index(cell).map(|i| self.sources[self.nodes[i].source as usize])
+        self.path_to_source(cell)
+            .and_then(|p| p.cells.last().copied())
     }
 
-    /// A shortest path from `cell` to its nearest source (first cell `cell`, last the source),
-    /// following the parents the search recorded.
+    /// A shortest path from `cell` to a nearest source (first cell `cell`, last the source), by
+    /// steepest descent over the distances.
     pub fn path_to_source(&self, cell: Cell) -> Option<GridPath> {
         let mut i = self.index(cell)?;
-        let length_cells = self.nodes[i].distance;
-        let mut cells = Vec::new();
-        loop {
-            cells.push(self.cell_of_padded(i));
-            if self.nodes[i].parent == NO_PARENT {
-                break;
+        let length_cells = self.distance[i];
+        let s = self.stride as isize;
+        let eight = self.connectivity == Connectivity::Eight;
+        let passable = |j: isize| self.state[j as usize] != BLOCKED;
+        let mut cells = vec![self.cell_of_padded(i)];
+        while self.distance[i] > 0.0 {
+            let d = self.distance[i];
+            let here = i as isize;
+            let mut step = None;
+            for (dc, dr) in NEIGHBORS8 {
+                let diagonal = dc != 0 && dr != 0;
+                if diagonal && !eight {
+                    break;
+                }
+                let next = here + dc as isize + dr as isize * s;
+                if self.state[next as usize] != SETTLED
+                    || (diagonal
+                        && !(passable(here + dc as isize) && passable(here + dr as isize * s)))
+                {
+                    continue;
+                }
+                let cost = if diagonal { DIAGONAL_COST } else { 1.0 };
+                if (self.distance[next as usize] + cost - d).abs() <= DESCENT_TOLERANCE * d.max(1.0)
+                {
+                    step = Some(next as usize);
+                    break;
+                }
             }
-            i = self.nodes[i].parent as usize;
+            // The cell the search reached `i` from always qualifies; stop rather than loop if
+            // the buffers were ever inconsistent.
+            let next = step?;
+            i = next;
+            cells.push(self.cell_of_padded(i));
         }
-        Some(GridPath { cells, length_cells })
+        Some(GridPath {
+            cells,
+            length_cells,
+        })
     }
 
     /// The whole field as a grid of distances in cells, `INFINITY` where unreachable.
@@ -286,10 +324,10 @@ impl DistanceField {
             for (row, dst) in out.as_mut_slice().chunks_exact_mut(w).enumerate() {
                 let start = (row + 1) * self.stride + 1;
                 let states = &self.state[start..start + w];
-                let nodes = &self.nodes[start..start + w];
-                for ((d, &st), node) in dst.iter_mut().zip(states).zip(nodes) {
+                let distances = &self.distance[start..start + w];
+                for ((d, &st), &dist) in dst.iter_mut().zip(states).zip(distances) {
                     if st == SETTLED {
-                        *d = node.distance;
+                        *d = dist;
                     }
                 }
             }

@@ -7,10 +7,22 @@
 //! orthogonal cells it passes are passable. The heuristics (Manhattan for 4-connected, octile
 //! `max(dx, dy) + (√2 − 1)·min(dx, dy)` for 8-connected) are consistent, so a closed cell is never
 //! reopened and the first time the goal is taken from the open list its g is optimal.
+//!
+//! g is summed in f64, so lengths match the MovingAI optima to rounding. The open list (see
+//! `open_list.rs`) is exact and O(1) per operation: with these costs and heuristics f changes by
+//! one of six values along a move, so one FIFO queue per value replaces the binary heap. Ties in f
+//! go to the larger g (the cell just reached, deeper along its path), which on open floors walks
+//! straight at the goal instead of fanning out over every cell of equal f.
+//!
+//! Grids are limited to 2³² − 1 cells including the border (cell indices are `u32`).
 
-use super::nav_grid::{NavGrid, PASSABLE};
+use super::nav_grid::NavGrid;
+use super::open_list::{OpenEntry, OpenList};
 use serde::{Deserialize, Serialize};
 use usar_world::Cell;
+
+/// Most padded cells a planner handles (cell indices are `u32`).
+pub(crate) const MAX_CELLS: usize = u32::MAX as usize - 1;
 
 /// Cost of a diagonal move, cells.
 pub const DIAGONAL_COST: f64 = std::f64::consts::SQRT_2;
@@ -68,108 +80,6 @@ impl GridPath {
     }
 }
 
-/// Width of one bucket of the open list, in units of f (cells).
-///
-/// It must be smaller than the least positive change of f along one move, so that a cell opened
-/// from the cell being expanded either has the same f (it lands on the current bucket) or lands
-/// on a later bucket. Along a move f = g + h changes by 0 or by at least 2 − √2 ≈ 0.586 with the
-/// octile heuristic (Δg ∈ {1, √2}, Δh ∈ {±1, ±(√2 − 1), ±√2, √2 − 2, 2 − √2, 0}), and by 0 or 2
-/// with Manhattan.
-const BUCKET_WIDTH: f64 = 0.5;
-
-/// An open-list entry, 16 bytes.
-#[derive(Clone, Copy, Debug)]
-struct OpenEntry {
-    /// f = g + h, cells.
-    f: f64,
-    /// h, cells, rounded to f32: among entries of equal f the smaller h has the larger g; the
-    /// rounding can only reorder entries whose h differ by less than ~1e-3 cells.
-    h: f32,
-    /// Padded index of the cell.
-    node: u32,
-}
-
-/// A sort key growing with urgency: least f first, then least h (= largest g, the cell deeper
-/// along its path). f and h are non-negative, so the integer order of their bits is their float
-/// order.
-#[inline]
-fn urgency_rank(e: &OpenEntry) -> u128 {
-    (u128::from(!e.f.to_bits()) << 32) | u128::from(!e.h.to_bits())
-}
-
-/// ⌊f / BUCKET_WIDTH⌋ (f ≥ 0, so truncation is the floor).
-#[inline(always)]
-fn bucket_of(f: f64) -> i64 {
-    (f * (1.0 / BUCKET_WIDTH)) as i64
-}
-
-/// The open list: a bucket queue over f (Dial 1969) whose current bucket is a stack.
-///
-/// While a bucket is current, every entry pushed into it has the f of the entry just popped
-/// (see [`BUCKET_WIDTH`]) and a larger g than any entry left with that f (the popped entry had
-/// the largest), so pushing it on top keeps the most urgent entry on top: ties in f go to the
-/// larger g, at O(1) amortised cost instead of a binary heap's O(log n).
-///
-/// The entries a bucket received before it became current are ordered once, when it does:
-/// - with `sort_buckets` (8-connected, where one bucket spans several f values), sorted by f,
-///   then by h (the smaller h has the larger g), which is the order of a binary heap on (f, −g);
-/// - without it (4-connected: f is an integer and a bucket holds one f value), they stay in
-///   push order and come out last-in first-out. Sorting them by g as well cuts expansions by
-///   ~5 % on a 1000×1000 building floor but costs ~30 % more time.
-///
-/// Pushes of one expansion must come in order of increasing g (straight moves before
-/// diagonal ones) for the top of the stack to stay the most urgent.
-#[derive(Clone, Debug, Default)]
-struct BucketQueue {
-    buckets: Vec<Vec<OpenEntry>>,
-    /// ⌊f / BUCKET_WIDTH⌋ of bucket 0.
-    base: i64,
-    current: usize,
-    /// Buckets `..used` may hold entries.
-    used: usize,
-    /// Sort a bucket when it becomes current (needed when a bucket spans several f values).
-    sort_buckets: bool,
-}
-
-impl BucketQueue {
-    fn reset(&mut self, f0: f64, sort_buckets: bool) {
-        self.sort_buckets = sort_buckets;
-        for bucket in &mut self.buckets[..self.used] {
-            bucket.clear();
-        }
-        self.base = bucket_of(f0);
-        self.current = 0;
-        self.used = 0;
-    }
-
-    #[inline(always)]
-    fn push(&mut self, entry: OpenEntry) {
-        // Rounding may put an entry of the current f a hair below the current bucket: clamp.
-        let index = (bucket_of(entry.f) - self.base).max(self.current as i64) as usize;
-        if index >= self.buckets.len() {
-            self.buckets.resize_with(index + 1, Vec::new);
-        }
-        self.used = self.used.max(index + 1);
-        self.buckets[index].push(entry);
-    }
-
-    #[inline(always)]
-    fn pop(&mut self) -> Option<OpenEntry> {
-        loop {
-            if let Some(entry) = self.buckets.get_mut(self.current)?.pop() {
-                return Some(entry);
-            }
-            self.current += 1;
-            if self.current >= self.used {
-                return None;
-            }
-            if self.sort_buckets {
-                self.buckets[self.current].sort_unstable_by_key(urgency_rank);
-            }
-        }
-    }
-}
-
 /// Grid A* with scratch memory kept between searches: after the first search on a grid of a
 /// given size, planning allocates only the returned path.
 #[derive(Clone, Debug, Default)]
@@ -179,9 +89,7 @@ pub struct GridAStar {
     stamp: Vec<u16>,
     /// Best cost found from the start, cells; valid where `stamp` is this search's.
     g: Vec<f64>,
-    /// Padded index of the cell each one was reached from (`u32::MAX` for the start).
-    parent: Vec<u32>,
-    open: BucketQueue,
+    open: OpenList,
     search: u16,
     expanded: usize,
 }
@@ -197,8 +105,15 @@ impl GridAStar {
         self.expanded
     }
 
+    /// Open-list pushes of the last search whose step of f matched none of the reduced-cost
+    /// classes and went to the fallback heap: always 0 with the built-in heuristics (the tests
+    /// check it); a diagnostic of the open list's invariant.
+    pub fn fallback_pushes(&self) -> usize {
+        self.open.fallback_pushes()
+    }
+
     /// A shortest path from `start` to `goal`, or `None` when either is blocked or outside the
-    /// grid, or the goal cannot be reached.
+    /// grid, or the goal cannot be reached (or the grid has more than 2³² − 1 padded cells).
     pub fn plan(
         &mut self,
         grid: &NavGrid,
@@ -207,38 +122,40 @@ impl GridAStar {
         connectivity: Connectivity,
     ) -> Option<GridPath> {
         self.expanded = 0;
-        if !grid.is_passable(start) || !grid.is_passable(goal) {
+        if !grid.is_passable(start) || !grid.is_passable(goal) || grid.cells().len() > MAX_CELLS {
             return None;
         }
         let h0 = connectivity.heuristic(start, goal);
-        self.prepare(grid.cells().len(), h0, connectivity == Connectivity::Eight);
+        self.prepare(grid.cells().len());
         let open_stamp = 2 * self.search;
         let closed_stamp = open_stamp + 1;
 
         let stride = grid.stride();
-        let cells = grid.cells();
         let start_i = grid.padded_index(start);
         let goal_i = grid.padded_index(goal);
         let (goal_col, goal_row) = (goal.col + 1, goal.row + 1);
-        let s = stride as isize;
-        let straight: [(isize, i32, i32); 4] = [(1, 1, 0), (s, 0, 1), (-1, -1, 0), (-s, 0, -1)];
-        let diagonal: [(isize, i32, i32); 4] =
-            [(s + 1, 1, 1), (s - 1, -1, 1), (-s - 1, -1, -1), (-s + 1, 1, -1)];
+        let move_table = grid.move_table();
         let eight = connectivity == Connectivity::Eight;
 
         // Locals, so that the compiler keeps the buffers in registers.
         let mut search = Search {
             stamp: &mut self.stamp[..],
             g: &mut self.g[..],
-            parent: &mut self.parent[..],
             open: &mut self.open,
             open_stamp,
             closed_stamp,
+            f_expanded: h0,
         };
         search.stamp[start_i] = open_stamp;
         search.g[start_i] = 0.0;
-        search.parent[start_i] = u32::MAX;
-        search.open.push(OpenEntry { f: h0, h: h0 as f32, node: start_i as u32 });
+        search.open.push(
+            OpenEntry {
+                f: h0,
+                h: h0 as f32,
+                node: start_i as u32,
+            },
+            h0,
+        );
 
         let mut expanded = 0;
         let mut found = false;
@@ -254,43 +171,34 @@ impl GridAStar {
                 break;
             }
             let g_cur = search.g[cur];
+            search.f_expanded = entry.f;
             // Padded coordinates of the current cell (the border shifts both by one).
             let col = (cur % stride) as i32;
             let row = (cur / stride) as i32;
-            for &(offset, dc, dr) in &straight {
+            // Straight moves come first (lower bits): on the stack of equal f, the diagonal
+            // (larger g) then lies on top.
+            let mut moves = grid.allowed_moves(cur, eight);
+            while moves != 0 {
+                let k = moves.trailing_zeros() as usize;
+                moves &= moves - 1;
+                let (offset, dc, dr, cost) = move_table[k];
                 let next = (cur as isize + offset) as usize;
-                if cells[next] != PASSABLE {
-                    continue;
-                }
-                let h = heuristic_padded(eight, col + dc - goal_col, row + dr - goal_row);
-                search.relax(next, cur, g_cur + 1.0, h);
-            }
-            if eight {
-                for &(offset, dc, dr) in &diagonal {
-                    let next = (cur as isize + offset) as usize;
-                    if cells[next] != PASSABLE
-                        || cells[(cur as isize + dc as isize) as usize] != PASSABLE
-                        || cells[(cur as isize + dr as isize * s) as usize] != PASSABLE
-                    {
-                        continue;
-                    }
-                    let h = heuristic_padded(true, col + dc - goal_col, row + dr - goal_row);
-                    search.relax(next, cur, g_cur + DIAGONAL_COST, h);
-                }
+                search.relax(next, g_cur + cost, || {
+                    heuristic_padded(eight, col + dc - goal_col, row + dr - goal_row)
+                });
             }
         }
         self.expanded = expanded;
-        found.then(|| self.reconstruct(grid, goal_i))
+        found.then(|| self.reconstruct(grid, goal_i, eight))
     }
 
     /// Grows the scratch buffers to `len` padded cells and starts a new search stamp.
-    fn prepare(&mut self, len: usize, f0: f64, sort_buckets: bool) {
+    fn prepare(&mut self, len: usize) {
         if self.stamp.len() < len {
             self.stamp.resize(len, 0);
             self.g.resize(len, f64::INFINITY);
-            self.parent.resize(len, u32::MAX);
         }
-        self.open.reset(f0, sort_buckets);
+        self.open.clear();
         // Stamps 2·search and 2·search + 1 must not collide with older ones.
         if self.search >= u16::MAX / 2 - 1 {
             self.stamp.fill(0);
@@ -299,41 +207,79 @@ impl GridAStar {
         self.search += 1;
     }
 
-    fn reconstruct(&self, grid: &NavGrid, goal_i: usize) -> GridPath {
-        let mut cells = Vec::new();
-        let mut i = goal_i as u32;
-        while i != u32::MAX {
-            cells.push(grid.cell_of_padded(i as usize));
-            i = self.parent[i as usize];
+    /// The path from the start to `goal_i`, by steepest descent over g from the goal: step to
+    /// the first closed neighbour (allowed move, in [`usar_world::NEIGHBORS8`] order) whose g plus
+    /// the move's cost is this cell's g. Closed cells have optimal g (consistent heuristic), and
+    /// the cell a cell was opened from always qualifies, so no parent array is needed.
+    fn reconstruct(&self, grid: &NavGrid, goal_i: usize, eight: bool) -> GridPath {
+        let closed_stamp = 2 * self.search + 1;
+        let move_table = grid.move_table();
+        let mut i = goal_i;
+        let mut cells = vec![grid.cell_of_padded(i)];
+        while self.g[i] > 0.0 {
+            let g = self.g[i];
+            let mut moves = grid.allowed_moves(i, eight);
+            let mut step = None;
+            while moves != 0 {
+                let k = moves.trailing_zeros() as usize;
+                moves &= moves - 1;
+                let (offset, _, _, cost) = move_table[k];
+                let next = (i as isize + offset) as usize;
+                if self.stamp[next] == closed_stamp
+                    && (self.g[next] + cost - g).abs() <= RECONSTRUCT_TOLERANCE * g
+                {
+                    step = Some(next);
+                    break;
+                }
+            }
+            // Some closed neighbour always qualifies; never loop if that were ever violated.
+            let Some(next) = step else { break };
+            i = next;
+            cells.push(grid.cell_of_padded(i));
         }
         cells.reverse();
-        GridPath { cells, length_cells: self.g[goal_i] }
+        GridPath {
+            cells,
+            length_cells: self.g[goal_i],
+        }
     }
 }
+
+/// Relative tolerance of the reconstruction's test g(next) + cost = g(cell): g values are exact
+/// sums, so this only absorbs a different summation order.
+const RECONSTRUCT_TOLERANCE: f64 = 1e-12;
 
 /// The buffers of one search, borrowed apart so that the hot loop keeps them in registers.
 struct Search<'a> {
     stamp: &'a mut [u16],
     g: &'a mut [f64],
-    parent: &'a mut [u32],
-    open: &'a mut BucketQueue,
+    open: &'a mut OpenList,
     open_stamp: u16,
     closed_stamp: u16,
+    /// f of the cell being expanded.
+    f_expanded: f64,
 }
 
 impl Search<'_> {
     /// Opens `next`, reached from `cur` at cost `g_next`, unless it is closed or already open
-    /// at a cost no higher.
+    /// at a cost no higher; `h` computes its heuristic, only when it is opened.
     #[inline(always)]
-    fn relax(&mut self, next: usize, cur: usize, g_next: f64, h: f64) {
+    fn relax(&mut self, next: usize, g_next: f64, h: impl FnOnce() -> f64) {
         let st = self.stamp[next];
         if st == self.closed_stamp || (st == self.open_stamp && self.g[next] <= g_next) {
             return;
         }
+        let h = h();
         self.stamp[next] = self.open_stamp;
         self.g[next] = g_next;
-        self.parent[next] = cur as u32;
-        self.open.push(OpenEntry { f: g_next + h, h: h as f32, node: next as u32 });
+        self.open.push(
+            OpenEntry {
+                f: g_next + h,
+                h: h as f32,
+                node: next as u32,
+            },
+            self.f_expanded,
+        );
     }
 }
 
@@ -351,7 +297,9 @@ mod tests {
     use usar_world::{GridGeometry, Point2};
 
     fn open_grid(w: u32, h: u32) -> NavGrid {
-        NavGrid::from_fn(GridGeometry::new(w, h, 1.0, Point2::new(0.0, 0.0)), |_| false)
+        NavGrid::from_fn(GridGeometry::new(w, h, 1.0, Point2::new(0.0, 0.0)), |_| {
+            false
+        })
     }
 
     #[test]
@@ -374,7 +322,13 @@ mod tests {
     fn start_equal_to_goal_is_a_one_cell_path() {
         let grid = open_grid(3, 3);
         let p = GridAStar::new().plan(&grid, Cell::new(1, 1), Cell::new(1, 1), Connectivity::Eight);
-        assert_eq!(p, Some(GridPath { cells: vec![Cell::new(1, 1)], length_cells: 0.0 }));
+        assert_eq!(
+            p,
+            Some(GridPath {
+                cells: vec![Cell::new(1, 1)],
+                length_cells: 0.0
+            })
+        );
     }
 
     #[test]
@@ -384,6 +338,9 @@ mod tests {
         let g = GridGeometry::new(2, 2, 1.0, Point2::new(0.0, 0.0));
         let grid = NavGrid::from_fn(g, |c| c.col != c.row);
         let mut astar = GridAStar::new();
-        assert_eq!(astar.plan(&grid, Cell::new(0, 0), Cell::new(1, 1), Connectivity::Eight), None);
+        assert_eq!(
+            astar.plan(&grid, Cell::new(0, 0), Cell::new(1, 1), Connectivity::Eight),
+            None
+        );
     }
 }

@@ -39,8 +39,8 @@ pub fn inflate(blocked: &Grid<bool>, radius_m: f64) -> Grid<bool> {
     let dst = out.as_mut_slice();
     for row in 0..h {
         let line = &src[row * w..(row + 1) * w];
-        for col in 0..w {
-            if !line[col] || !borders_free(src, w, h, col, row) {
+        for (col, &is_blocked) in line.iter().enumerate() {
+            if !is_blocked || !borders_free(src, w, h, col, row) {
                 continue;
             }
             let row_lo = row.saturating_sub(reach);
@@ -84,6 +84,11 @@ mod tests {
         assert!(!out[Cell::new(8, 6)]);
         assert_eq!(inflate(&blocked, 0.0), blocked);
         assert_eq!(inflate(&blocked, f64::NAN), blocked);
-        assert!(inflate(&blocked, f64::INFINITY).as_slice().iter().all(|&b| b));
+        assert!(
+            inflate(&blocked, f64::INFINITY)
+                .as_slice()
+                .iter()
+                .all(|&b| b)
+        );
     }
 }

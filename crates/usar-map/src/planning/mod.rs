@@ -32,6 +32,7 @@ mod graph_astar;
 mod grid_astar;
 mod inflate;
 mod nav_grid;
+mod open_list;
 pub mod scenarios;
 
 pub use self::distance_field::DistanceField;

@@ -97,12 +97,17 @@ pub fn check_scenario_sample(scen_path: &Path, stride: usize) -> Result<Scenario
                 scen_path,
                 format!("line {} columns 3-4 (map width, map height)", scenario.line),
                 format!("{}x{}", scenario.width, scenario.height),
-                format!("{}x{}, the size of map {}", map.width, map.height, scenario.map),
+                format!(
+                    "{}x{}, the size of map {}",
+                    map.width, map.height, scenario.map
+                ),
             ));
         }
         let start = map.cell_of(scenario.start.0, scenario.start.1);
         let goal = map.cell_of(scenario.goal.0, scenario.goal.1);
-        let found = astar.plan(nav, start, goal, Connectivity::Eight).map(|p| p.length_cells);
+        let found = astar
+            .plan(nav, start, goal, Connectivity::Eight)
+            .map(|p| p.length_cells);
         report.scenarios += 1;
         report.total_expanded += astar.expanded() as u64;
         let error = found.map(|f| (f - scenario.optimal_length).abs());
@@ -125,14 +130,17 @@ pub fn check_scenario_sample(scen_path: &Path, stride: usize) -> Result<Scenario
 }
 
 /// Finds and reads the map a scenario row names.
-fn load_map(
-    scen_path: &Path,
-    folder: &Path,
-    scenario: &Scenario,
-) -> Result<MovingAiMap> {
-    let basename = scenario.map.rsplit(['/', '\\']).next().unwrap_or(&scenario.map);
+fn load_map(scen_path: &Path, folder: &Path, scenario: &Scenario) -> Result<MovingAiMap> {
+    let basename = scenario
+        .map
+        .rsplit(['/', '\\'])
+        .next()
+        .unwrap_or(&scenario.map);
     let mut candidates: Vec<PathBuf> = vec![folder.join(basename)];
-    if let Some(stem) = scen_path.file_name().and_then(|n| n.to_str()?.strip_suffix(".scen")) {
+    if let Some(stem) = scen_path
+        .file_name()
+        .and_then(|n| n.to_str()?.strip_suffix(".scen"))
+    {
         let by_stem = folder.join(stem);
         if !candidates.contains(&by_stem) {
             candidates.push(by_stem);

@@ -57,7 +57,10 @@ impl MovingAiMap {
 
     /// True if the MovingAI coordinate is inside the map and passable.
     pub fn is_passable_at(&self, x: u32, y: u32) -> bool {
-        self.passable.get(self.cell_of(x, y)).copied().unwrap_or(false)
+        self.passable
+            .get(self.cell_of(x, y))
+            .copied()
+            .unwrap_or(false)
     }
 
     /// The blocked mask (`true` = blocked), the form the planners take.
@@ -101,7 +104,12 @@ impl MovingAiMap {
             seed: None,
             detail: format!("MovingAI map {name} ({}x{})", self.width, self.height),
         };
-        for (o, &p) in scene.obstacle.as_mut_slice().iter_mut().zip(self.passable.as_slice()) {
+        for (o, &p) in scene
+            .obstacle
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.passable.as_slice())
+        {
             *o = if p { obstacle::NONE } else { obstacle::WALL };
         }
         if let Some(start) = first_cell_of_largest_component(&self.passable) {
@@ -176,14 +184,21 @@ pub fn read_movingai_map(path: impl AsRef<Path>) -> Result<MovingAiMap> {
 
 /// Parses the text of a MovingAI `.map` file; `path` only names the file in errors.
 pub fn parse_movingai_map(text: &str, path: &Path) -> Result<MovingAiMap> {
-    let mut lines = text.lines().map(|l| l.strip_suffix('\r').unwrap_or(l)).enumerate();
+    let mut lines = text
+        .lines()
+        .map(|l| l.strip_suffix('\r').unwrap_or(l))
+        .enumerate();
     let mut next_line = |what: &str| -> Result<(usize, &str)> {
         for (i, line) in lines.by_ref() {
             if !line.trim().is_empty() {
                 return Ok((i + 1, line.trim()));
             }
         }
-        Err(WorldError::syntax(path, "end of file", format!("missing {what}")))
+        Err(WorldError::syntax(
+            path,
+            "end of file",
+            format!("missing {what}"),
+        ))
     };
 
     let (n, type_line) = next_line("the header line `type octile`")?;
@@ -214,14 +229,19 @@ pub fn parse_movingai_map(text: &str, path: &Path) -> Result<MovingAiMap> {
                 ));
             }
         };
-        let value = words.next().and_then(|v| v.parse::<u32>().ok()).filter(|&v| v > 0);
+        let value = words
+            .next()
+            .and_then(|v| v.parse::<u32>().ok())
+            .filter(|&v| v > 0);
         match (value, words.next()) {
             (Some(v), None) if v <= MAX_GRID_SIDE => *slot = Some(v),
             _ => {
                 return Err(WorldError::syntax(
                     path,
                     format!("line {n}"),
-                    format!("found `{line}`, expected `{key}` and an integer in 1..={MAX_GRID_SIDE}"),
+                    format!(
+                        "found `{line}`, expected `{key}` and an integer in 1..={MAX_GRID_SIDE}"
+                    ),
                 ));
             }
         }
@@ -292,7 +312,11 @@ pub fn parse_movingai_map(text: &str, path: &Path) -> Result<MovingAiMap> {
             ));
         }
     }
-    Ok(MovingAiMap { width, height, passable })
+    Ok(MovingAiMap {
+        width,
+        height,
+        passable,
+    })
 }
 
 /// Reads a MovingAI `.scen` file.
@@ -320,7 +344,10 @@ const SCEN_COLUMNS: [&str; 9] = [
 /// Rows are tab-separated; a row without tabs is split at whitespace instead. Blank lines are
 /// skipped. Start and goal must lie inside the stated map size.
 pub fn parse_scenarios(text: &str, path: &Path) -> Result<Vec<Scenario>> {
-    let mut lines = text.lines().map(|l| l.strip_suffix('\r').unwrap_or(l)).enumerate();
+    let mut lines = text
+        .lines()
+        .map(|l| l.strip_suffix('\r').unwrap_or(l))
+        .enumerate();
     let version = lines.by_ref().find(|(_, l)| !l.trim().is_empty());
     match version.map(|(i, l)| (i, l.split_whitespace().collect::<Vec<_>>())) {
         Some((_, words)) if words.len() == 2 && words[0] == "version" => {
@@ -340,7 +367,13 @@ pub fn parse_scenarios(text: &str, path: &Path) -> Result<Vec<Scenario>> {
                 "expected `version 1` as the first line",
             ));
         }
-        None => return Err(WorldError::syntax(path, "end of file", "missing `version 1`")),
+        None => {
+            return Err(WorldError::syntax(
+                path,
+                "end of file",
+                "missing `version 1`",
+            ));
+        }
     }
 
     let mut scenarios = Vec::new();
@@ -358,7 +391,11 @@ pub fn parse_scenarios(text: &str, path: &Path) -> Result<Vec<Scenario>> {
             return Err(WorldError::syntax(
                 path,
                 format!("line {n}"),
-                format!("found {} tab-separated columns, expected 9: {}", fields.len(), SCEN_COLUMNS.join(", ")),
+                format!(
+                    "found {} tab-separated columns, expected 9: {}",
+                    fields.len(),
+                    SCEN_COLUMNS.join(", ")
+                ),
             ));
         }
         let bad = |col: usize, expected: &str| {
@@ -368,7 +405,11 @@ pub fn parse_scenarios(text: &str, path: &Path) -> Result<Vec<Scenario>> {
                 format!("found `{}`, expected {expected}", fields[col]),
             )
         };
-        let int = |col: usize| fields[col].parse::<u32>().map_err(|_| bad(col, "a non-negative integer"));
+        let int = |col: usize| {
+            fields[col]
+                .parse::<u32>()
+                .map_err(|_| bad(col, "a non-negative integer"))
+        };
         let bucket = int(0)?;
         if fields[1].is_empty() {
             return Err(bad(1, "a map file name"));
@@ -378,12 +419,21 @@ pub fn parse_scenarios(text: &str, path: &Path) -> Result<Vec<Scenario>> {
         let coordinate = |col: usize, limit: u32, dim: &str| -> Result<u32> {
             let v = int(col)?;
             if v >= limit {
-                return Err(bad(col, &format!("a coordinate below the map {dim} {limit}")));
+                return Err(bad(
+                    col,
+                    &format!("a coordinate below the map {dim} {limit}"),
+                ));
             }
             Ok(v)
         };
-        let start = (coordinate(4, width, "width")?, coordinate(5, height, "height")?);
-        let goal = (coordinate(6, width, "width")?, coordinate(7, height, "height")?);
+        let start = (
+            coordinate(4, width, "width")?,
+            coordinate(5, height, "height")?,
+        );
+        let goal = (
+            coordinate(6, width, "width")?,
+            coordinate(7, height, "height")?,
+        );
         let optimal_length = fields[8]
             .parse::<f64>()
             .ok()
