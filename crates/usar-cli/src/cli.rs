@@ -198,8 +198,14 @@ pub struct PlanArgs {
 }
 
 fn parse_point(s: &str) -> Result<(f64, f64), String> {
-    let (x, y) = s.split_once(',').ok_or_else(|| format!("expected \"x,y\" in metres, found {s:?}"))?;
-    let parse = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("expected a number, found {v:?} in {s:?}"));
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected \"x,y\" in metres, found {s:?}"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("expected a number, found {v:?} in {s:?}"))
+    };
     Ok((parse(x)?, parse(y)?))
 }
 

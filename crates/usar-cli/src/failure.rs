@@ -16,13 +16,19 @@ impl Failure {
 
 /// Errors from outside the process (files, arguments): exit code 2.
 pub fn bad_input(error: impl Into<anyhow::Error>) -> Failure {
-    Failure { error: error.into(), code: 2 }
+    Failure {
+        error: error.into(),
+        code: 2,
+    }
 }
 
 /// Anything else is our failure: exit code 1.
 impl<E: Into<anyhow::Error>> From<E> for Failure {
     fn from(error: E) -> Self {
-        Failure { error: error.into(), code: 1 }
+        Failure {
+            error: error.into(),
+            code: 1,
+        }
     }
 }
 

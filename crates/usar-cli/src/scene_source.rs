@@ -42,14 +42,21 @@ pub fn load(spec: &str, seed: u64, image: &ImageArgs) -> CmdResult<Scene> {
         return Ok(generate(kind, seed));
     }
     let path = Path::new(spec);
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
     match ext.as_str() {
         "json" => usar_world::read_scene(path).input(),
         "yaml" | "yml" => usar_world::io::ros::read_ros_map(path).input(),
         "pgm" | "png" => read_image_map(path, &image_options(image, path)?).input(),
         "map" => {
             let map = usar_world::io::movingai::read_movingai_map(path).input()?;
-            let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            let name = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
             map.to_scene(&name, image.resolution.unwrap_or(1.0)).input()
         }
         _ if !path.exists() => Err(bad_input(anyhow::anyhow!(
@@ -68,7 +75,9 @@ pub fn load_robot(spec: &str) -> CmdResult<usar_sim::RobotSpec> {
     }
     let path = Path::new(spec);
     if !path.exists() {
-        return Err(bad_input(anyhow::anyhow!("{spec}: not a robot preset (crawler, wheeled) and no such robot file")));
+        return Err(bad_input(anyhow::anyhow!(
+            "{spec}: not a robot preset (crawler, wheeled) and no such robot file"
+        )));
     }
     usar_sim::RobotSpec::from_toml_file(path).input()
 }

@@ -17,14 +17,20 @@ fn usar_env(args: &[&str], env: &[(&str, &str)]) -> Output {
 }
 
 fn shared(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/maps").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/maps")
+        .join(rel)
 }
 
 /// Bad input: exit code 2 and exactly one line on stderr that contains `needle`.
 fn assert_bad_input(out: &Output, needle: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "one line expected, got: {stderr}");
+    assert_eq!(
+        stderr.trim_end().lines().count(),
+        1,
+        "one line expected, got: {stderr}"
+    );
     assert!(stderr.contains(needle), "{needle:?} not in: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
@@ -42,7 +48,18 @@ fn truncated_pgm_is_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("cut.pgm");
     std::fs::write(&f, b"P5\n100 100\n255\n\x00\x00\x00").unwrap();
-    assert_bad_input(&usar(&["scene", "import", f.to_str().unwrap(), "--resolution", "0.1", "-o", dir.path().join("o.json").to_str().unwrap()]), "cut.pgm");
+    assert_bad_input(
+        &usar(&[
+            "scene",
+            "import",
+            f.to_str().unwrap(),
+            "--resolution",
+            "0.1",
+            "-o",
+            dir.path().join("o.json").to_str().unwrap(),
+        ]),
+        "cut.pgm",
+    );
     assert!(!dir.path().join("o.json").exists(), "no output on failure");
 }
 
@@ -51,7 +68,10 @@ fn yaml_pointing_to_a_missing_image_is_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("map.yaml");
     std::fs::write(&f, "image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n").unwrap();
-    assert_bad_input(&usar(&["scene", "info", f.to_str().unwrap()]), "nowhere.pgm");
+    assert_bad_input(
+        &usar(&["scene", "info", f.to_str().unwrap()]),
+        "nowhere.pgm",
+    );
 }
 
 #[test]
@@ -70,25 +90,70 @@ fn negative_resolution_is_bad_input() {
     std::fs::write(&f, "image: depot.pgm\nresolution: -0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.25\n").unwrap();
     assert_bad_input(&usar(&["scene", "info", f.to_str().unwrap()]), "resolution");
     let pgm = shared("ros/willow-full.pgm");
-    assert_bad_input(&usar(&["scene", "info", pgm.to_str().unwrap(), "--resolution", "-0.1"]), "resolution");
+    assert_bad_input(
+        &usar(&[
+            "scene",
+            "info",
+            pgm.to_str().unwrap(),
+            "--resolution",
+            "-0.1",
+        ]),
+        "resolution",
+    );
 }
 
 #[test]
 fn unknown_scene_name_and_missing_file_are_bad_input() {
-    assert_bad_input(&usar(&["scene", "info", "warehouse-of-dreams"]), "warehouse-of-dreams");
-    assert_bad_input(&usar(&["explore", "--scene", "office", "--robots", "40", "--minutes", "1"]), "start poses");
+    assert_bad_input(
+        &usar(&["scene", "info", "warehouse-of-dreams"]),
+        "warehouse-of-dreams",
+    );
+    assert_bad_input(
+        &usar(&[
+            "explore",
+            "--scene",
+            "office",
+            "--robots",
+            "40",
+            "--minutes",
+            "1",
+        ]),
+        "start poses",
+    );
 }
 
 #[test]
 fn generating_twice_gives_identical_bytes_and_the_file_round_trips() {
     let dir = tempfile::tempdir().unwrap();
-    let (a, b, c) = (dir.path().join("a.json"), dir.path().join("b.json"), dir.path().join("c.json"));
+    let (a, b, c) = (
+        dir.path().join("a.json"),
+        dir.path().join("b.json"),
+        dir.path().join("c.json"),
+    );
     for f in [&a, &b] {
-        let out = usar(&["scene", "gen", "course", "--seed", "4", "-o", f.to_str().unwrap()]);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let out = usar(&[
+            "scene",
+            "gen",
+            "course",
+            "--seed",
+            "4",
+            "-o",
+            f.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
-    let out = usar(&["scene", "export", a.to_str().unwrap(), "--scene-file", c.to_str().unwrap()]);
+    let out = usar(&[
+        "scene",
+        "export",
+        a.to_str().unwrap(),
+        "--scene-file",
+        c.to_str().unwrap(),
+    ]);
     assert!(out.status.success());
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap());
 }
@@ -96,7 +161,11 @@ fn generating_twice_gives_identical_bytes_and_the_file_round_trips() {
 #[test]
 fn scene_info_json_reports_ground_truth() {
     let out = usar(&["scene", "info", "course", "--seed", "1", "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["junctions"].as_array().unwrap().len() >= 4);
     assert!(v["reachable_area_m2"].as_f64().unwrap() > 50.0);
@@ -106,7 +175,11 @@ fn scene_info_json_reports_ground_truth() {
 fn movingai_scenarios_match_their_optimal_lengths() {
     let scen = shared("movingai/room-32-32-4-random-1.scen");
     let out = usar(&["plan", "--scen", scen.to_str().unwrap(), "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["scenarios"], v["matched"]);
     assert!(v["max_abs_error"].as_f64().unwrap() < 1e-3);
@@ -119,17 +192,34 @@ fn plan_without_a_route_exits_3_with_the_reason() {
     let v: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
     let start = &v["start_poses"][0];
     let from = format!("{},{}", start["x"], start["y"]);
-    let out = usar(&["plan", "--scene", "course", "--from", &from, "--to", "-5,-5"]);
+    let out = usar(&[
+        "plan", "--scene", "course", "--from", &from, "--to", "-5,-5",
+    ]);
     assert_bad_input(&out, "--to");
 }
 
 #[test]
 fn explore_is_deterministic_across_runs_and_thread_counts() {
-    let args = ["explore", "--scene", "office", "--robots", "3", "--seed", "5", "--minutes", "2", "--json"];
+    let args = [
+        "explore",
+        "--scene",
+        "office",
+        "--robots",
+        "3",
+        "--seed",
+        "5",
+        "--minutes",
+        "2",
+        "--json",
+    ];
     let one = usar_env(&args, &[("RAYON_NUM_THREADS", "1")]);
     let two = usar_env(&args, &[("RAYON_NUM_THREADS", "2")]);
     let again = usar_env(&args, &[("RAYON_NUM_THREADS", "2")]);
-    assert!(one.status.success(), "{}", String::from_utf8_lossy(&one.stderr));
+    assert!(
+        one.status.success(),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
     assert_eq!(one.stdout, two.stdout);
     assert_eq!(two.stdout, again.stdout);
     let v: serde_json::Value = serde_json::from_slice(&one.stdout).unwrap();

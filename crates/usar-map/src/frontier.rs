@@ -89,14 +89,18 @@ impl FrontierTracker {
         if grid.class_at_index(i) != CellClass::Free {
             return false;
         }
-        let (c, r) = ((i % self.width as usize) as i32, (i / self.width as usize) as i32);
+        let (c, r) = (
+            (i % self.width as usize) as i32,
+            (i / self.width as usize) as i32,
+        );
         [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dc, dr)| {
             let (cc, rr) = (c + dc, r + dr);
             cc >= 0
                 && rr >= 0
                 && cc < self.width
                 && rr < self.height
-                && grid.class_at_index(rr as usize * self.width as usize + cc as usize) == CellClass::Unknown
+                && grid.class_at_index(rr as usize * self.width as usize + cc as usize)
+                    == CellClass::Unknown
         })
     }
 
@@ -184,7 +188,10 @@ impl FrontierTracker {
                 continue;
             }
             members.sort_unstable();
-            let cells: Vec<Cell> = members.iter().map(|&i| g.cell_of_index(i as usize)).collect();
+            let cells: Vec<Cell> = members
+                .iter()
+                .map(|&i| g.cell_of_index(i as usize))
+                .collect();
             let n = cells.len() as f64;
             let (sx, sy) = cells.iter().fold((0.0, 0.0), |(sx, sy), &c| {
                 let p = g.cell_center(c);
@@ -193,9 +200,17 @@ impl FrontierTracker {
             let centroid = Point2::new(sx / n, sy / n);
             let candidate = *cells
                 .iter()
-                .min_by(|a, b| g.cell_center(**a).distance_squared(centroid).total_cmp(&g.cell_center(**b).distance_squared(centroid)))
+                .min_by(|a, b| {
+                    g.cell_center(**a)
+                        .distance_squared(centroid)
+                        .total_cmp(&g.cell_center(**b).distance_squared(centroid))
+                })
                 .expect("non-empty cluster");
-            out.push(FrontierCluster { cells, centroid, candidate });
+            out.push(FrontierCluster {
+                cells,
+                centroid,
+                candidate,
+            });
         }
         out
     }
@@ -214,8 +229,22 @@ mod tests {
         let mut grid = OccupancyGrid::new(g, OccupancyParams::default());
         let mut tracker = FrontierTracker::new(&grid);
         for (k, x) in [1.0, 3.0, 5.5].into_iter().enumerate() {
-            let ranges = (0..90).map(|i| if (i + k) % 7 == 0 { f32::INFINITY } else { 1.0 + (i % 5) as f32 * 0.3 }).collect();
-            let scan = LaserScan { pose: Pose2::new(x, 3.0, 0.0), angle_min_rad: -3.1, angle_increment_rad: 0.07, max_range_m: 2.5, ranges_m: ranges };
+            let ranges = (0..90)
+                .map(|i| {
+                    if (i + k) % 7 == 0 {
+                        f32::INFINITY
+                    } else {
+                        1.0 + (i % 5) as f32 * 0.3
+                    }
+                })
+                .collect();
+            let scan = LaserScan {
+                pose: Pose2::new(x, 3.0, 0.0),
+                angle_min_rad: -3.1,
+                angle_increment_rad: 0.07,
+                max_range_m: 2.5,
+                ranges_m: ranges,
+            };
             grid.integrate_scan(&scan);
             tracker.update(&mut grid);
             let fresh = FrontierTracker::new(&grid);

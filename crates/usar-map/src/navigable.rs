@@ -25,8 +25,16 @@ impl NavigableMap {
             .filter(|&(dc, dr)| f64::from(dc * dc + dr * dr) <= r * r + 1e-9)
             .collect();
         let n = geometry.len();
-        let mut map = Self { geometry, radius_m, disc, near_occupied: vec![0; n], is_occupied: vec![false; n] };
-        let all: Vec<u32> = (0..n as u32).filter(|&i| grid.class_at_index(i as usize) == CellClass::Occupied).collect();
+        let mut map = Self {
+            geometry,
+            radius_m,
+            disc,
+            near_occupied: vec![0; n],
+            is_occupied: vec![false; n],
+        };
+        let all: Vec<u32> = (0..n as u32)
+            .filter(|&i| grid.class_at_index(i as usize) == CellClass::Occupied)
+            .collect();
         map.update_from(grid, &all);
         map
     }
@@ -74,7 +82,13 @@ impl NavigableMap {
 
     /// The blocked mask (`true` = not navigable) for planners.
     pub fn blocked_grid(&self, grid: &OccupancyGrid) -> Grid<bool> {
-        Grid::from_vec(self.geometry, (0..self.geometry.len()).map(|i| !self.is_navigable(grid, i)).collect()).expect("same geometry")
+        Grid::from_vec(
+            self.geometry,
+            (0..self.geometry.len())
+                .map(|i| !self.is_navigable(grid, i))
+                .collect(),
+        )
+        .expect("same geometry")
     }
 }
 
@@ -92,8 +106,16 @@ mod tests {
         let mut nav = NavigableMap::new(&grid, 0.3);
         let mut changed = Vec::new();
         for (x, r) in [(1.0, 2.0f32), (2.0, 1.5), (1.5, 0.4)] {
-            let ranges = (0..72).map(|i| if i % 9 == 0 { f32::INFINITY } else { r }).collect();
-            grid.integrate_scan(&LaserScan { pose: Pose2::new(x, 2.0, 0.0), angle_min_rad: -3.1, angle_increment_rad: 0.087, max_range_m: 2.5, ranges_m: ranges });
+            let ranges = (0..72)
+                .map(|i| if i % 9 == 0 { f32::INFINITY } else { r })
+                .collect();
+            grid.integrate_scan(&LaserScan {
+                pose: Pose2::new(x, 2.0, 0.0),
+                angle_min_rad: -3.1,
+                angle_increment_rad: 0.087,
+                max_range_m: 2.5,
+                ranges_m: ranges,
+            });
             changed.clear();
             grid.drain_changed(&mut changed);
             nav.update_from(&grid, &changed);

@@ -41,7 +41,11 @@ pub struct OccupancyParams {
 
 impl Default for OccupancyParams {
     fn default() -> Self {
-        Self { hit: 9, miss: -4, occupied_above: 0 }
+        Self {
+            hit: 9,
+            miss: -4,
+            occupied_above: 0,
+        }
     }
 }
 
@@ -114,7 +118,9 @@ impl OccupancyGrid {
     /// Class of a cell; `Unknown` outside the grid.
     #[inline]
     pub fn class(&self, cell: Cell) -> CellClass {
-        self.geometry.checked_index(cell).map_or(CellClass::Unknown, |i| self.class_at_index(i))
+        self.geometry
+            .checked_index(cell)
+            .map_or(CellClass::Unknown, |i| self.class_at_index(i))
     }
 
     /// Number of cells currently free or occupied.
@@ -136,7 +142,11 @@ impl OccupancyGrid {
     fn apply(&mut self, i: usize, delta: i8) {
         let old = self.logodds[i];
         let base = if old == NEVER_OBSERVED { 0 } else { old };
-        self.set(i, base.saturating_add(delta).clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT));
+        self.set(
+            i,
+            base.saturating_add(delta)
+                .clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT),
+        );
     }
 
     /// Sets a cell's value, logging a class change and marking its tile dirty.
@@ -148,7 +158,8 @@ impl OccupancyGrid {
             let (co, cn) = (self.params.class(old), self.params.class(new));
             if co != cn {
                 self.changed.push(i as u32);
-                self.known_cells = self.known_cells + usize::from(co == CellClass::Unknown) - usize::from(cn == CellClass::Unknown);
+                self.known_cells = self.known_cells + usize::from(co == CellClass::Unknown)
+                    - usize::from(cn == CellClass::Unknown);
             }
             let w = self.geometry.width as usize;
             let tile = ((i / w) >> TILE_SHIFT) * self.tiles_x + ((i % w) >> TILE_SHIFT);
@@ -179,7 +190,11 @@ impl OccupancyGrid {
         for &range in &scan.ranges_m {
             let (dc, ds) = (c * bc - s * bs, s * bc + c * bs);
             let hit = range.is_finite();
-            let reach_t = if hit { f64::from(range) } else { scan.max_range_m } * inv_res;
+            let reach_t = if hit {
+                f64::from(range)
+            } else {
+                scan.max_range_m
+            } * inv_res;
             let mut ray = GridRay::new(&g, origin, dc, ds);
             loop {
                 let Some(i) = ray.index_in(w, h) else { break };
@@ -211,7 +226,14 @@ impl OccupancyGrid {
 
     /// A mask of cells whose class is `class`.
     pub fn mask(&self, class: CellClass) -> Grid<bool> {
-        Grid::from_vec(self.geometry, self.logodds.iter().map(|&l| self.params.class(l) == class).collect()).expect("same geometry")
+        Grid::from_vec(
+            self.geometry,
+            self.logodds
+                .iter()
+                .map(|&l| self.params.class(l) == class)
+                .collect(),
+        )
+        .expect("same geometry")
     }
 
     /// Replaces this grid's values with the clamped sum of `sources` on every tile that any
@@ -239,7 +261,11 @@ impl OccupancyGrid {
                 sum.fill(0);
                 observed.fill(false);
                 for s in sources.iter() {
-                    for ((acc, seen), &l) in sum.iter_mut().zip(observed.iter_mut()).zip(&s.logodds[span.clone()]) {
+                    for ((acc, seen), &l) in sum
+                        .iter_mut()
+                        .zip(observed.iter_mut())
+                        .zip(&s.logodds[span.clone()])
+                    {
                         if l != NEVER_OBSERVED {
                             *acc += i16::from(l);
                             *seen = true;
@@ -268,7 +294,13 @@ mod tests {
     use usar_world::{Point2, Pose2};
 
     fn scan_towards_east(range: f32) -> LaserScan {
-        LaserScan { pose: Pose2::new(0.55, 0.55, 0.0), angle_min_rad: 0.0, angle_increment_rad: 0.0, max_range_m: 5.0, ranges_m: vec![range] }
+        LaserScan {
+            pose: Pose2::new(0.55, 0.55, 0.0),
+            angle_min_rad: 0.0,
+            angle_increment_rad: 0.0,
+            max_range_m: 5.0,
+            ranges_m: vec![range],
+        }
     }
 
     #[test]
@@ -294,7 +326,12 @@ mod tests {
         grid.integrate_scan(&scan_towards_east(f32::INFINITY));
         assert_eq!(grid.class(Cell::new(54, 5)), CellClass::Free);
         assert_eq!(grid.class(Cell::new(56, 5)), CellClass::Unknown);
-        assert!(grid.mask(CellClass::Occupied).as_slice().iter().all(|&o| !o));
+        assert!(
+            grid.mask(CellClass::Occupied)
+                .as_slice()
+                .iter()
+                .all(|&o| !o)
+        );
     }
 
     #[test]

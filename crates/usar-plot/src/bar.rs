@@ -27,11 +27,22 @@ impl BarChart {
 }
 
 impl Drawable for BarChart {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, plotters::coord::Shift>) -> Result<(), String> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), String> {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
         area.fill(&WHITE).map_err(e)?;
-        let top = self.bars.iter().map(|b| b.value + b.error.max(0.0)).fold(0.0f64, f64::max);
-        let bottom = self.bars.iter().map(|b| b.value - b.error.max(0.0)).fold(0.0f64, f64::min);
+        let top = self
+            .bars
+            .iter()
+            .map(|b| b.value + b.error.max(0.0))
+            .fold(0.0f64, f64::max);
+        let bottom = self
+            .bars
+            .iter()
+            .map(|b| b.value - b.error.max(0.0))
+            .fold(0.0f64, f64::min);
         let span = (top - bottom).max(1e-9);
         let n = self.bars.len().max(1);
         let mut chart = ChartBuilder::on(area)
@@ -50,24 +61,38 @@ impl Drawable for BarChart {
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(e)?;
-        let label_style = TextStyle::from(("sans-serif", 15).into_font()).pos(Pos::new(HPos::Center, VPos::Bottom));
+        let label_style = TextStyle::from(("sans-serif", 15).into_font())
+            .pos(Pos::new(HPos::Center, VPos::Bottom));
         for (k, b) in self.bars.iter().enumerate() {
             let (r, g, bl) = PALETTE[k % PALETTE.len()];
             let x = k as f64;
             let (lo, hi) = (b.value - b.error, b.value + b.error);
             let mid = x + 0.5;
             chart
-                .draw_series(std::iter::once(Rectangle::new([(x + 0.15, 0.0), (x + 0.85, b.value)], RGBColor(r, g, bl).filled())))
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x + 0.15, 0.0), (x + 0.85, b.value)],
+                    RGBColor(r, g, bl).filled(),
+                )))
                 .map_err(e)?;
             chart
                 .draw_series([
                     PathElement::new(vec![(mid, lo), (mid, hi)], BLACK.stroke_width(2)),
-                    PathElement::new(vec![(mid - 0.08, lo), (mid + 0.08, lo)], BLACK.stroke_width(2)),
-                    PathElement::new(vec![(mid - 0.08, hi), (mid + 0.08, hi)], BLACK.stroke_width(2)),
+                    PathElement::new(
+                        vec![(mid - 0.08, lo), (mid + 0.08, lo)],
+                        BLACK.stroke_width(2),
+                    ),
+                    PathElement::new(
+                        vec![(mid - 0.08, hi), (mid + 0.08, hi)],
+                        BLACK.stroke_width(2),
+                    ),
                 ])
                 .map_err(e)?;
             chart
-                .draw_series(std::iter::once(Text::new(b.label.clone(), (mid, hi.max(b.value) + 0.02 * span), label_style.clone())))
+                .draw_series(std::iter::once(Text::new(
+                    b.label.clone(),
+                    (mid, hi.max(b.value) + 0.02 * span),
+                    label_style.clone(),
+                )))
                 .map_err(e)?;
         }
         Ok(())

@@ -10,6 +10,7 @@ pub(crate) fn ensure_registered() {
     ONCE.call_once(|| {
         // The font is a valid TrueType file shipped with the source; registration cannot fail
         // for it, and if it ever did the plots would still draw (without text).
-        let _ = plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, FONT);
+        let _ =
+            plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, FONT);
     });
 }

@@ -47,10 +47,17 @@ enum Format {
 }
 
 fn format_of(path: &Path) -> Result<Format, PlotError> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
         Some("png") => Ok(Format::Png),
         Some("svg") => Ok(Format::Svg),
-        _ => Err(PlotError::Format { path: path.display().to_string() }),
+        _ => Err(PlotError::Format {
+            path: path.display().to_string(),
+        }),
     }
 }
 
@@ -80,25 +87,32 @@ pub(crate) trait Drawable {
 /// Renders `plot` to PNG or SVG (by extension) and writes the file atomically.
 pub(crate) fn render(path: &Path, plot: &impl Drawable) -> Result<(), PlotError> {
     use plotters::drawing::IntoDrawingArea;
-    let fail = |message: String| PlotError::Draw { path: path.display().to_string(), message };
+    let fail = |message: String| PlotError::Draw {
+        path: path.display().to_string(),
+        message,
+    };
     match format_of(path)? {
         Format::Png => {
             font::ensure_registered();
             let mut buf = vec![0u8; (WIDTH * HEIGHT * 3) as usize];
             {
-                let area = plotters::backend::BitMapBackend::with_buffer(&mut buf, (WIDTH, HEIGHT)).into_drawing_area();
+                let area = plotters::backend::BitMapBackend::with_buffer(&mut buf, (WIDTH, HEIGHT))
+                    .into_drawing_area();
                 plot.draw(&area).map_err(fail)?;
                 area.present().map_err(|e| fail(e.to_string()))?;
             }
-            let img = image::RgbImage::from_raw(WIDTH, HEIGHT, buf).ok_or_else(|| fail("buffer size".into()))?;
+            let img = image::RgbImage::from_raw(WIDTH, HEIGHT, buf)
+                .ok_or_else(|| fail("buffer size".into()))?;
             let mut png = std::io::Cursor::new(Vec::new());
-            img.write_to(&mut png, image::ImageFormat::Png).map_err(|e| fail(e.to_string()))?;
+            img.write_to(&mut png, image::ImageFormat::Png)
+                .map_err(|e| fail(e.to_string()))?;
             usar_world::write_atomic(path, png.get_ref())?;
         }
         Format::Svg => {
             let mut text = String::new();
             {
-                let area = plotters::backend::SVGBackend::with_string(&mut text, (WIDTH, HEIGHT)).into_drawing_area();
+                let area = plotters::backend::SVGBackend::with_string(&mut text, (WIDTH, HEIGHT))
+                    .into_drawing_area();
                 plot.draw(&area).map_err(fail)?;
                 area.present().map_err(|e| fail(e.to_string()))?;
             }

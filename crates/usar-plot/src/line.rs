@@ -16,11 +16,19 @@ pub struct Series {
 
 impl Series {
     pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { label: label.into(), points, sd: None }
+        Self {
+            label: label.into(),
+            points,
+            sd: None,
+        }
     }
 
     pub fn with_band(label: impl Into<String>, points: Vec<(f64, f64)>, sd: Vec<f64>) -> Self {
-        Self { label: label.into(), points, sd: Some(sd) }
+        Self {
+            label: label.into(),
+            points,
+            sd: Some(sd),
+        }
     }
 }
 
@@ -66,7 +74,10 @@ impl LineChart {
 }
 
 impl Drawable for LineChart {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, plotters::coord::Shift>) -> Result<(), String> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), String> {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
         area.fill(&WHITE).map_err(e)?;
         let ((x0, x1), (y0, y1)) = self.ranges();
@@ -91,15 +102,30 @@ impl Drawable for LineChart {
             let colour = RGBColor(r, g, b);
             if let Some(sd) = &s.sd {
                 let upper = s.points.iter().zip(sd).map(|(&(x, y), &d)| (x, y + d));
-                let lower = s.points.iter().zip(sd).rev().map(|(&(x, y), &d)| (x, y - d));
+                let lower = s
+                    .points
+                    .iter()
+                    .zip(sd)
+                    .rev()
+                    .map(|(&(x, y), &d)| (x, y - d));
                 let band: Vec<(f64, f64)> = upper.chain(lower).collect();
-                chart.draw_series(std::iter::once(Polygon::new(band, colour.mix(0.2).filled()))).map_err(e)?;
+                chart
+                    .draw_series(std::iter::once(Polygon::new(
+                        band,
+                        colour.mix(0.2).filled(),
+                    )))
+                    .map_err(e)?;
             }
             chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), colour.stroke_width(2)))
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    colour.stroke_width(2),
+                ))
                 .map_err(e)?
                 .label(s.label.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
         }
         if self.series.iter().any(|s| !s.label.is_empty()) {
             chart

@@ -1,7 +1,11 @@
 use usar_plot::{Bar, BarChart, LineChart, Series};
 
 fn chart() -> LineChart {
-    let pts = |f: fn(f64) -> f64| (0..=20).map(|i| (i as f64 * 60.0, f(i as f64))).collect::<Vec<_>>();
+    let pts = |f: fn(f64) -> f64| {
+        (0..=20)
+            .map(|i| (i as f64 * 60.0, f(i as f64)))
+            .collect::<Vec<_>>()
+    };
     LineChart {
         title: "Explored relevant area".into(),
         x_label: "time (s)".into(),
@@ -22,10 +26,15 @@ fn line_chart_writes_a_png_with_text_and_an_svg() {
     let img = image::open(&png).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (960, 600));
     // The caption row is drawn with the embedded font: some dark pixels near the top centre.
-    let dark = (300..660).flat_map(|x| (5..40).map(move |y| (x, y))).filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100).count();
+    let dark = (300..660)
+        .flat_map(|x| (5..40).map(move |y| (x, y)))
+        .filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100)
+        .count();
     assert!(dark > 50, "caption text missing ({dark} dark pixels)");
     if let Ok(dir) = std::env::var("USAR_PLOT_SAMPLE_DIR") {
-        chart().save(&std::path::Path::new(&dir).join("sample-line.png")).unwrap();
+        chart()
+            .save(&std::path::Path::new(&dir).join("sample-line.png"))
+            .unwrap();
     }
     let svg = dir.path().join("a.svg");
     chart().save(&svg).unwrap();
@@ -39,13 +48,31 @@ fn bar_chart_and_unknown_extension() {
     let bars = BarChart {
         title: "Steps to explore".into(),
         y_label: "steps".into(),
-        bars: vec![Bar { label: "case 1".into(), value: 800.0, error: 50.0 }, Bar { label: "case 2".into(), value: 650.0, error: 80.0 }],
+        bars: vec![
+            Bar {
+                label: "case 1".into(),
+                value: 800.0,
+                error: 50.0,
+            },
+            Bar {
+                label: "case 2".into(),
+                value: 650.0,
+                error: 80.0,
+            },
+        ],
     };
     bars.save(&dir.path().join("b.png")).unwrap();
     if let Ok(dir) = std::env::var("USAR_PLOT_SAMPLE_DIR") {
-        bars.save(&std::path::Path::new(&dir).join("sample-bar.png")).unwrap();
+        bars.save(&std::path::Path::new(&dir).join("sample-bar.png"))
+            .unwrap();
     }
-    let err = bars.save(&dir.path().join("b.jpg")).unwrap_err().to_string();
-    assert!(err.contains("b.jpg") && err.contains(".png or .svg"), "{err}");
+    let err = bars
+        .save(&dir.path().join("b.jpg"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("b.jpg") && err.contains(".png or .svg"),
+        "{err}"
+    );
     assert!(!dir.path().join("b.jpg").exists());
 }

@@ -39,7 +39,12 @@ pub enum CellAction {
 }
 
 impl CellAction {
-    pub const ALL: [CellAction; 4] = [CellAction::Forward, CellAction::Backward, CellAction::RotateLeft, CellAction::RotateRight];
+    pub const ALL: [CellAction; 4] = [
+        CellAction::Forward,
+        CellAction::Backward,
+        CellAction::RotateLeft,
+        CellAction::RotateRight,
+    ];
 }
 
 /// What an action did.
@@ -65,7 +70,14 @@ pub struct CellRobot {
 
 impl CellRobot {
     pub fn new(cell: Cell, heading: u8, rotation: RotationStep, can_climb: bool) -> Self {
-        Self { cell, heading: heading % rotation.headings(), rotation, can_climb, collisions: 0, steps: 0 }
+        Self {
+            cell,
+            heading: heading % rotation.headings(),
+            rotation,
+            can_climb,
+            collisions: 0,
+            steps: 0,
+        }
     }
 
     /// Heading angle, radians counter-clockwise from east.
@@ -75,7 +87,16 @@ impl CellRobot {
 
     /// The (dcol, drow) of one cell ahead.
     pub fn ahead(&self) -> (i32, i32) {
-        const EIGHT: [(i32, i32); 8] = [(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)];
+        const EIGHT: [(i32, i32); 8] = [
+            (1, 0),
+            (1, 1),
+            (0, 1),
+            (-1, 1),
+            (-1, 0),
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+        ];
         let k = match self.rotation {
             RotationStep::Quarter => self.heading as usize * 2,
             RotationStep::Eighth => self.heading as usize,
@@ -94,7 +115,11 @@ impl CellRobot {
     pub fn can_enter(&self, view: &CellView, target: Cell) -> bool {
         let (dc, dr) = (target.col - self.cell.col, target.row - self.cell.row);
         let ok = |c: Cell| view.is_passable(c, self.can_climb);
-        ok(target) && (dc == 0 || dr == 0 || (ok(Cell::new(self.cell.col + dc, self.cell.row)) && ok(Cell::new(self.cell.col, self.cell.row + dr))))
+        ok(target)
+            && (dc == 0
+                || dr == 0
+                || (ok(Cell::new(self.cell.col + dc, self.cell.row))
+                    && ok(Cell::new(self.cell.col, self.cell.row + dr))))
     }
 
     /// Applies one primitive action.
@@ -136,8 +161,11 @@ mod tests {
     fn the_robot_never_enters_a_cell_it_cannot_cross() {
         let scene = generate_rubble(3, &RubbleParams::default());
         let view = CellView::from_scene(&scene, &CellViewParams::default());
-        let start = view.cell_of(scene.start_poses[0].position()).expect("start inside");
-        for (rotation, can_climb) in [(RotationStep::Quarter, true), (RotationStep::Eighth, false)] {
+        let start = view
+            .cell_of(scene.start_poses[0].position())
+            .expect("start inside");
+        for (rotation, can_climb) in [(RotationStep::Quarter, true), (RotationStep::Eighth, false)]
+        {
             let mut robot = CellRobot::new(start, 0, rotation, can_climb);
             let mut moved = 0;
             for k in 0..2000u32 {
@@ -145,7 +173,12 @@ mod tests {
                 let before = robot.cell;
                 if robot.apply(action, &view) == CellOutcome::Moved {
                     moved += 1;
-                    assert!(view.is_passable(robot.cell, can_climb), "entered {:?} ({:?})", robot.cell, view.class(robot.cell));
+                    assert!(
+                        view.is_passable(robot.cell, can_climb),
+                        "entered {:?} ({:?})",
+                        robot.cell,
+                        view.class(robot.cell)
+                    );
                     assert!(robot.cell.chebyshev(before) == 1);
                 } else {
                     assert_eq!(robot.cell, before);
@@ -154,7 +187,11 @@ mod tests {
                     assert_ne!(view.terrain_class(robot.cell), CellClass::Climbable);
                 }
             }
-            assert!(moved > 100 && robot.collisions > 0, "moved {moved}, collisions {}", robot.collisions);
+            assert!(
+                moved > 100 && robot.collisions > 0,
+                "moved {moved}, collisions {}",
+                robot.collisions
+            );
         }
     }
 

@@ -30,7 +30,9 @@ mod traversability;
 
 pub use self::cell_robot::{CellAction, CellOutcome, CellRobot, RotationStep};
 pub use self::robot::{Locomotion, RobotSpec};
-pub use self::simulation::{PlacementError, RobotId, SimConfig, SimRobot, Simulation, Velocity, derive_seed};
+pub use self::simulation::{
+    PlacementError, RobotId, SimConfig, SimRobot, Simulation, Velocity, derive_seed,
+};
 pub use self::traversability::{compute_blocked, footprint_cells};
 
 /// Errors reading simulator inputs.

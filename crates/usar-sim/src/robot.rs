@@ -95,24 +95,40 @@ impl RobotSpec {
 
     /// Reads a robot file (TOML). It names a `preset` to start from and overrides fields of it.
     pub fn from_toml_file(path: &Path) -> Result<Self, crate::SimError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| crate::SimError::Io { path: path.display().to_string(), io: e })?;
+        let text = std::fs::read_to_string(path).map_err(|e| crate::SimError::Io {
+            path: path.display().to_string(),
+            io: e,
+        })?;
         Self::from_toml(&text, path)
     }
 
     /// Parses a robot file; `path` is used in error messages only.
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, crate::SimError> {
-        let bad = |message: String| crate::SimError::RobotFile { path: path.display().to_string(), message };
-        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
+        let bad = |message: String| crate::SimError::RobotFile {
+            path: path.display().to_string(),
+            message,
+        };
+        let mut table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
         let preset = match table.remove("preset") {
             None => Self::crawler(),
-            Some(toml::Value::String(name)) => Self::preset(&name)
-                .ok_or_else(|| bad(format!("field `preset`: found {name:?}, expected \"crawler\" or \"wheeled\"")))?,
-            Some(other) => return Err(bad(format!("field `preset`: found {other}, expected a string"))),
+            Some(toml::Value::String(name)) => Self::preset(&name).ok_or_else(|| {
+                bad(format!(
+                    "field `preset`: found {name:?}, expected \"crawler\" or \"wheeled\""
+                ))
+            })?,
+            Some(other) => {
+                return Err(bad(format!(
+                    "field `preset`: found {other}, expected a string"
+                )));
+            }
         };
         let mut base = toml::Table::try_from(&preset).map_err(|e| bad(e.to_string()))?;
         merge_tables(&mut base, table);
-        let spec: RobotSpec = base.try_into().map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
+        let spec: RobotSpec = base
+            .try_into()
+            .map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
         spec.validate().map_err(bad)?;
         Ok(spec)
     }
@@ -129,7 +145,9 @@ impl RobotSpec {
         ];
         for (field, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("field `{field}`: found {v}, expected a positive number"));
+                return Err(format!(
+                    "field `{field}`: found {v}, expected a positive number"
+                ));
             }
         }
         if !(0.0..std::f64::consts::FRAC_PI_2).contains(&self.max_inclination_rad) {
@@ -139,7 +157,10 @@ impl RobotSpec {
             ));
         }
         if !(self.max_step_m.is_finite() && self.max_step_m >= 0.0) {
-            return Err(format!("field `max_step_m`: found {}, expected ≥ 0 metres", self.max_step_m));
+            return Err(format!(
+                "field `max_step_m`: found {}, expected ≥ 0 metres",
+                self.max_step_m
+            ));
         }
         if self.laser.beams == 0 {
             return Err("field `laser.beams`: found 0, expected at least 1".into());
@@ -166,7 +187,11 @@ mod tests {
 
     #[test]
     fn robot_file_overrides_a_preset() {
-        let spec = RobotSpec::from_toml("preset = \"wheeled\"\nwidth_m = 0.7\n[laser]\nbeams = 180\n", Path::new("r.toml")).unwrap();
+        let spec = RobotSpec::from_toml(
+            "preset = \"wheeled\"\nwidth_m = 0.7\n[laser]\nbeams = 180\n",
+            Path::new("r.toml"),
+        )
+        .unwrap();
         assert_eq!(spec.width_m, 0.7);
         assert_eq!(spec.laser.beams, 180);
         assert_eq!(spec.locomotion, Locomotion::Wheeled);
@@ -175,9 +200,13 @@ mod tests {
 
     #[test]
     fn robot_file_with_a_typo_names_the_field() {
-        let err = RobotSpec::from_toml("widht_m = 0.7\n", Path::new("r.toml")).unwrap_err().to_string();
+        let err = RobotSpec::from_toml("widht_m = 0.7\n", Path::new("r.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("r.toml") && err.contains("widht_m"), "{err}");
-        let err = RobotSpec::from_toml("width_m = -1.0\n", Path::new("r.toml")).unwrap_err().to_string();
+        let err = RobotSpec::from_toml("width_m = -1.0\n", Path::new("r.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("width_m") && err.contains("-1"), "{err}");
     }
 }

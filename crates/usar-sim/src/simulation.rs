@@ -35,7 +35,10 @@ pub struct SimConfig {
 
 impl Default for SimConfig {
     fn default() -> Self {
-        Self { dt_s: 0.1, robots_collide: true }
+        Self {
+            dt_s: 0.1,
+            robots_collide: true,
+        }
     }
 }
 
@@ -106,7 +109,15 @@ pub fn derive_seed(seed: u64, stream: u64) -> u64 {
 impl Simulation {
     pub fn new(scene: Arc<Scene>, config: SimConfig, seed: u64) -> Self {
         let world = Arc::new(SensingWorld::new(&scene));
-        Self { scene, world, robots: Vec::new(), config, seed, time_s: 0.0, blocked_cache: Vec::new() }
+        Self {
+            scene,
+            world,
+            robots: Vec::new(),
+            config,
+            seed,
+            time_s: 0.0,
+            blocked_cache: Vec::new(),
+        }
     }
 
     pub fn scene(&self) -> &Arc<Scene> {
@@ -146,7 +157,10 @@ impl Simulation {
 
     /// Adds a robot at `pose`. Its noise stream is derived from the simulation seed and its id.
     pub fn add_robot(&mut self, spec: RobotSpec, pose: Pose2) -> Result<RobotId, PlacementError> {
-        spec.validate().map_err(|message| PlacementError::BadSpec { name: spec.name.clone(), message })?;
+        spec.validate().map_err(|message| PlacementError::BadSpec {
+            name: spec.name.clone(),
+            message,
+        })?;
         let id = RobotId(self.robots.len());
         let blocked = self.blocked_for(&spec);
         let laser = Arc::new(LaserModel::new(spec.laser.clone()));
@@ -164,7 +178,11 @@ impl Simulation {
             laser,
         };
         if !self.pose_is_free(&robot, pose) {
-            return Err(PlacementError::NotFree { name: robot.spec.name.to_string(), x: pose.x, y: pose.y });
+            return Err(PlacementError::NotFree {
+                name: robot.spec.name.to_string(),
+                x: pose.x,
+                y: pose.y,
+            });
         }
         self.robots.push(robot);
         Ok(id)
@@ -207,8 +225,12 @@ impl Simulation {
             }
             let cmd = commands.get(i).copied().unwrap_or_default();
             let spec = self.robots[i].spec.clone();
-            let v = cmd.linear_mps.clamp(-spec.max_linear_mps, spec.max_linear_mps);
-            let w = cmd.angular_radps.clamp(-spec.max_angular_radps, spec.max_angular_radps);
+            let v = cmd
+                .linear_mps
+                .clamp(-spec.max_linear_mps, spec.max_linear_mps);
+            let w = cmd
+                .angular_radps
+                .clamp(-spec.max_angular_radps, spec.max_angular_radps);
             let (ds, dth) = (v * dt, w * dt);
             let sweep = ds.abs().max(dth.abs() * spec.circumscribed_radius_m());
             let n = ((sweep / half_cell).ceil() as usize).max(1);
@@ -217,7 +239,11 @@ impl Simulation {
             for _ in 0..n {
                 let p = self.robots[i].pose;
                 let mid = p.theta + dth_n / 2.0;
-                let next = Pose2::new(p.x + ds_n * mid.cos(), p.y + ds_n * mid.sin(), usar_world::normalize_angle(p.theta + dth_n));
+                let next = Pose2::new(
+                    p.x + ds_n * mid.cos(),
+                    p.y + ds_n * mid.sin(),
+                    usar_world::normalize_angle(p.theta + dth_n),
+                );
                 if !self.pose_is_free(&self.robots[i], next) {
                     stopped = true;
                     break;
@@ -253,13 +279,21 @@ impl Simulation {
     pub fn scan_laser(&mut self, id: RobotId, scan: &mut LaserScan) {
         let floor = self.floor_z(self.robots[id.0].pose.position());
         let r = &mut self.robots[id.0];
-        r.laser.scan_into(&self.world, r.pose, floor, &mut r.rng, scan);
+        r.laser
+            .scan_into(&self.world, r.pose, floor, &mut r.rng, scan);
     }
 
     pub fn read_thermal(&mut self, id: RobotId) -> Vec<HeatDetection> {
         let floor = self.floor_z(self.robots[id.0].pose.position());
         let r = &mut self.robots[id.0];
-        crate::sensors::read_thermal(&r.spec.thermal, &self.scene, &self.world, r.pose, floor, &mut r.rng)
+        crate::sensors::read_thermal(
+            &r.spec.thermal,
+            &self.scene,
+            &self.world,
+            r.pose,
+            floor,
+            &mut r.rng,
+        )
     }
 
     pub fn read_depth(&mut self, id: RobotId) -> DepthImage {
@@ -271,7 +305,13 @@ impl Simulation {
     pub fn read_tilted_laser(&mut self, id: RobotId) -> TiltedScan {
         let floor = self.floor_z(self.robots[id.0].pose.position());
         let r = &mut self.robots[id.0];
-        crate::sensors::read_tilted_laser(&r.spec.tilted_laser, &self.world, r.pose, floor, &mut r.rng)
+        crate::sensors::read_tilted_laser(
+            &r.spec.tilted_laser,
+            &self.world,
+            r.pose,
+            floor,
+            &mut r.rng,
+        )
     }
 
     pub fn read_infrared(&mut self, id: RobotId) -> InfraredReading {
@@ -282,7 +322,14 @@ impl Simulation {
 
     pub fn read_attitude(&mut self, id: RobotId) -> Attitude {
         let r = &mut self.robots[id.0];
-        crate::sensors::read_attitude(&self.world, r.pose, r.spec.length_m, r.spec.width_m, &r.spec.noise, &mut r.rng)
+        crate::sensors::read_attitude(
+            &self.world,
+            r.pose,
+            r.spec.length_m,
+            r.spec.width_m,
+            &r.spec.noise,
+            &mut r.rng,
+        )
     }
 }
 
@@ -299,7 +346,8 @@ fn rectangles_overlap(a: Pose2, sa: &RobotSpec, b: Pose2, sb: &RobotSpec) -> boo
     };
     let half = |p: Pose2, spec: &RobotSpec, (ax, ay): (f64, f64)| {
         let [(ux, uy), (vx, vy)] = axes(p);
-        spec.length_m / 2.0 * (ux * ax + uy * ay).abs() + spec.width_m / 2.0 * (vx * ax + vy * ay).abs()
+        spec.length_m / 2.0 * (ux * ax + uy * ay).abs()
+            + spec.width_m / 2.0 * (vx * ax + vy * ay).abs()
     };
     axes(a).into_iter().chain(axes(b)).all(|axis| {
         let distance = (dx * axis.0 + dy * axis.1).abs();
@@ -324,9 +372,14 @@ mod tests {
     #[test]
     fn driving_into_a_wall_stops_and_counts_one_collision() {
         let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
-        let id = sim.add_robot(RobotSpec::wheeled(), Pose2::new(2.0, 2.0, 0.0)).unwrap();
+        let id = sim
+            .add_robot(RobotSpec::wheeled(), Pose2::new(2.0, 2.0, 0.0))
+            .unwrap();
         for _ in 0..100 {
-            sim.step(&[Velocity { linear_mps: 0.5, angular_radps: 0.0 }]);
+            sim.step(&[Velocity {
+                linear_mps: 0.5,
+                angular_radps: 0.0,
+            }]);
         }
         let r = sim.robot(id);
         assert_eq!(r.collisions, 1);
@@ -337,11 +390,22 @@ mod tests {
     #[test]
     fn robots_do_not_overlap() {
         let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
-        sim.add_robot(RobotSpec::wheeled(), Pose2::new(1.0, 2.0, 0.0)).unwrap();
-        sim.add_robot(RobotSpec::wheeled(), Pose2::new(3.0, 2.0, std::f64::consts::PI)).unwrap();
-        assert!(sim.add_robot(RobotSpec::wheeled(), Pose2::new(3.1, 2.0, 0.0)).is_err());
+        sim.add_robot(RobotSpec::wheeled(), Pose2::new(1.0, 2.0, 0.0))
+            .unwrap();
+        sim.add_robot(
+            RobotSpec::wheeled(),
+            Pose2::new(3.0, 2.0, std::f64::consts::PI),
+        )
+        .unwrap();
+        assert!(
+            sim.add_robot(RobotSpec::wheeled(), Pose2::new(3.1, 2.0, 0.0))
+                .is_err()
+        );
         for _ in 0..60 {
-            let go = Velocity { linear_mps: 0.5, angular_radps: 0.0 };
+            let go = Velocity {
+                linear_mps: 0.5,
+                angular_radps: 0.0,
+            };
             sim.step(&[go, go]);
         }
         let (a, b) = (sim.robots()[0].pose, sim.robots()[1].pose);

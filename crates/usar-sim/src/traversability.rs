@@ -33,7 +33,11 @@ pub fn compute_blocked(scene: &Scene, spec: &RobotSpec) -> Grid<bool> {
             // Height of a cell for the gradient: its own floor, or ours when it is an obstacle.
             let hh = |cc: i32, rr: i32| {
                 let j = idx(cc.clamp(0, w - 1), rr.clamp(0, h - 1));
-                if obstacles[j] != obstacle::NONE { hc } else { heights[j] }
+                if obstacles[j] != obstacle::NONE {
+                    hc
+                } else {
+                    heights[j]
+                }
             };
             let step = [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dc, dr)| {
                 let (cc, rr) = (c + dc, r + dr);
@@ -44,8 +48,16 @@ pub fn compute_blocked(scene: &Scene, spec: &RobotSpec) -> Grid<bool> {
             });
             let (c0, c1) = ((c - k).max(0), (c + k).min(w - 1));
             let (r0, r1) = ((r - k).max(0), (r + k).min(h - 1));
-            let gx = if c1 > c0 { f64::from(hh(c1, r) - hh(c0, r)) / (f64::from(c1 - c0) * g.resolution_m) } else { 0.0 };
-            let gy = if r1 > r0 { f64::from(hh(c, r1) - hh(c, r0)) / (f64::from(r1 - r0) * g.resolution_m) } else { 0.0 };
+            let gx = if c1 > c0 {
+                f64::from(hh(c1, r) - hh(c0, r)) / (f64::from(c1 - c0) * g.resolution_m)
+            } else {
+                0.0
+            };
+            let gy = if r1 > r0 {
+                f64::from(hh(c, r1) - hh(c, r0)) / (f64::from(r1 - r0) * g.resolution_m)
+            } else {
+                0.0
+            };
             out[i] = step || gx.hypot(gy) > tan_max;
         }
     }

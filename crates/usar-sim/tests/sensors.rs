@@ -51,7 +51,9 @@ fn same_seed_gives_the_same_noisy_scan() {
     let scene = Arc::new(random_scene(&[(30, 10), (10, 30)]));
     let scan = |seed| {
         let mut sim = Simulation::new(scene.clone(), SimConfig::default(), seed);
-        let id = sim.add_robot(RobotSpec::crawler(), Pose2::new(2.0, 2.0, 0.3)).unwrap();
+        let id = sim
+            .add_robot(RobotSpec::crawler(), Pose2::new(2.0, 2.0, 0.3))
+            .unwrap();
         let mut s = Default::default();
         sim.scan_laser(id, &mut s);
         s
@@ -66,19 +68,54 @@ fn thermal_camera_sees_victims_in_view_but_not_behind_walls_or_outside_the_band(
     for row in 0..40 {
         scene.obstacle[Cell::new(30, row)] = obstacle::WALL;
     }
-    let victim = |id, x: f64| Victim { id, position: Point2::new(x, 2.0), heat_c: 34.0, visible_size_m2: 0.5, buried_fraction: 0.2 };
+    let victim = |id, x: f64| Victim {
+        id,
+        position: Point2::new(x, 2.0),
+        heat_c: 34.0,
+        visible_size_m2: 0.5,
+        buried_fraction: 0.2,
+    };
     scene.victims = vec![victim(1, 2.5), victim(2, 3.5)];
-    scene.heat_sources = vec![HeatSource { id: 1, position: Point2::new(2.0, 2.4), heat_c: 200.0, size_m2: 0.3, kind: "fire".into() }];
+    scene.heat_sources = vec![HeatSource {
+        id: 1,
+        position: Point2::new(2.0, 2.4),
+        heat_c: 200.0,
+        size_m2: 0.3,
+        kind: "fire".into(),
+    }];
     let world = SensingWorld::new(&scene);
-    let spec = ThermalSpec { temperature_noise_sd_c: 0.0, size_noise_fraction: 0.0, ..ThermalSpec::default() };
-    let seen = read_thermal(&spec, &scene, &world, Pose2::new(1.0, 2.0, 0.0), 0.0, &mut Pcg64Mcg::seed_from_u64(1));
+    let spec = ThermalSpec {
+        temperature_noise_sd_c: 0.0,
+        size_noise_fraction: 0.0,
+        ..ThermalSpec::default()
+    };
+    let seen = read_thermal(
+        &spec,
+        &scene,
+        &world,
+        Pose2::new(1.0, 2.0, 0.0),
+        0.0,
+        &mut Pcg64Mcg::seed_from_u64(1),
+    );
     // Victim 1 in view; victim 2 behind the wall at x = 3.0; the fire in view but too hot.
     assert_eq!(seen.len(), 2, "{seen:?}");
     assert!(seen[0].human_signature && (seen[0].size_m2 - 0.4).abs() < 1e-9);
-    assert!((seen[0].position(Pose2::new(1.0, 2.0, 0.0)).distance(Point2::new(2.5, 2.0))) < 1e-9);
+    assert!(
+        (seen[0]
+            .position(Pose2::new(1.0, 2.0, 0.0))
+            .distance(Point2::new(2.5, 2.0)))
+            < 1e-9
+    );
     assert!(!seen[1].human_signature);
     // Facing away, nothing is seen.
-    let behind = read_thermal(&spec, &scene, &world, Pose2::new(1.0, 2.0, std::f64::consts::PI), 0.0, &mut Pcg64Mcg::seed_from_u64(1));
+    let behind = read_thermal(
+        &spec,
+        &scene,
+        &world,
+        Pose2::new(1.0, 2.0, std::f64::consts::PI),
+        0.0,
+        &mut Pcg64Mcg::seed_from_u64(1),
+    );
     assert!(behind.is_empty());
 }
 
@@ -91,13 +128,20 @@ fn infrared_and_depth_see_the_wall_beside_and_ahead() {
     let scene = Arc::new(scene);
     let mut sim = Simulation::new(scene, SimConfig::default(), 3);
     // Facing east, the wall at y = 2.5 is 0.5 m to the left.
-    let id = sim.add_robot(RobotSpec::crawler(), Pose2::new(2.0, 2.0, 0.0)).unwrap();
+    let id = sim
+        .add_robot(RobotSpec::crawler(), Pose2::new(2.0, 2.0, 0.0))
+        .unwrap();
     let ir = sim.read_infrared(id);
     let left = ir.ranges_m[0].expect("wall on the left");
     assert!((left - 0.5).abs() < 0.05, "{left}");
     assert!(ir.ranges_m[4].is_none(), "nothing on the right");
     // Facing north the depth array sees the wall: the top rows return short ranges.
-    let id2 = sim.add_robot(RobotSpec::crawler(), Pose2::new(1.0, 1.6, std::f64::consts::FRAC_PI_2)).unwrap();
+    let id2 = sim
+        .add_robot(
+            RobotSpec::crawler(),
+            Pose2::new(1.0, 1.6, std::f64::consts::FRAC_PI_2),
+        )
+        .unwrap();
     let depth = sim.read_depth(id2);
     let top = depth.point_body(0, depth.cols / 2).expect("a return");
     assert!((top[0] - 0.9).abs() < 0.05, "wall 0.9 m ahead, got {top:?}");

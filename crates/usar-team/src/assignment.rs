@@ -18,7 +18,11 @@ pub struct Candidate {
 /// Candidate locations from frontier clusters: the cluster's candidate cell if the robot can
 /// stand there, else the navigable cluster cell closest to the centroid; clusters without a
 /// navigable cell are dropped.
-pub fn candidates(clusters: &[FrontierCluster], is_navigable: impl Fn(Cell) -> bool, geometry: &usar_world::GridGeometry) -> Vec<Candidate> {
+pub fn candidates(
+    clusters: &[FrontierCluster],
+    is_navigable: impl Fn(Cell) -> bool,
+    geometry: &usar_world::GridGeometry,
+) -> Vec<Candidate> {
     clusters
         .iter()
         .filter_map(|cluster| {
@@ -31,20 +35,34 @@ pub fn candidates(clusters: &[FrontierCluster], is_navigable: impl Fn(Cell) -> b
                     .copied()
                     .filter(|&c| is_navigable(c))
                     .min_by(|a, b| {
-                        let (da, db) = (geometry.cell_center(*a).distance_squared(cluster.centroid), geometry.cell_center(*b).distance_squared(cluster.centroid));
+                        let (da, db) = (
+                            geometry.cell_center(*a).distance_squared(cluster.centroid),
+                            geometry.cell_center(*b).distance_squared(cluster.centroid),
+                        );
                         da.total_cmp(&db).then(a.cmp(b))
                     })
             }?;
-            Some(Candidate { cell, frontier_cells: cluster.len() })
+            Some(Candidate {
+                cell,
+                frontier_cells: cluster.len(),
+            })
         })
         .collect()
 }
 
 /// Path costs (cells) from one robot — its start cells `sources` — to every candidate; `None` =
 /// unreachable.
-pub fn path_costs(field: &mut DistanceField, grid: &NavGrid, sources: &[Cell], candidates: &[Candidate]) -> Vec<Option<f64>> {
+pub fn path_costs(
+    field: &mut DistanceField,
+    grid: &NavGrid,
+    sources: &[Cell],
+    candidates: &[Candidate],
+) -> Vec<Option<f64>> {
     field.compute(grid, sources, Connectivity::Eight);
-    candidates.iter().map(|c| field.distance_cells(c.cell)).collect()
+    candidates
+        .iter()
+        .map(|c| field.distance_cells(c.cell))
+        .collect()
 }
 
 /// Greedy single-robot assignment on a cost matrix `costs[robot][candidate]`: repeatedly the
@@ -55,7 +73,11 @@ pub fn assign_nearest(costs: &[Vec<Option<f64>>]) -> Vec<Option<usize>> {
     let mut pairs: Vec<(f64, usize, usize)> = costs
         .iter()
         .enumerate()
-        .flat_map(|(r, row)| row.iter().enumerate().filter_map(move |(c, cost)| cost.map(|d| (d, r, c))))
+        .flat_map(|(r, row)| {
+            row.iter()
+                .enumerate()
+                .filter_map(move |(c, cost)| cost.map(|d| (d, r, c)))
+        })
         .collect();
     pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     let mut robot_target = vec![None; costs.len()];
@@ -80,7 +102,11 @@ mod tests {
 
     #[test]
     fn nearest_pairs_first_one_robot_per_candidate() {
-        let costs = vec![vec![Some(5.0), Some(1.0)], vec![Some(2.0), Some(0.5)], vec![None, Some(9.0)]];
+        let costs = vec![
+            vec![Some(5.0), Some(1.0)],
+            vec![Some(2.0), Some(0.5)],
+            vec![None, Some(9.0)],
+        ];
         // Robot 1 takes candidate 1 (0.5), robot 0 then takes candidate 0 (5.0), robot 2 can only
         // reach the taken candidate 1.
         assert_eq!(assign_nearest(&costs), vec![Some(0), Some(1), Some(1)]);

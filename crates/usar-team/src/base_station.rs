@@ -19,7 +19,13 @@ pub struct BaseStation {
 }
 
 impl BaseStation {
-    pub fn new(scene: &Scene, params: OccupancyParams, radius_m: f64, tight_radius_m: f64, start: usar_world::Point2) -> Self {
+    pub fn new(
+        scene: &Scene,
+        params: OccupancyParams,
+        radius_m: f64,
+        tight_radius_m: f64,
+        start: usar_world::Point2,
+    ) -> Self {
         let merged = OccupancyGrid::new(*scene.geometry(), params);
         Self {
             frontiers: FrontierTracker::new(&merged),
@@ -38,7 +44,8 @@ impl BaseStation {
         self.merged.drain_changed(&mut self.changed);
         self.frontiers.update_from(&self.merged, &self.changed);
         self.navigable.update_from(&self.merged, &self.changed);
-        self.navigable_tight.update_from(&self.merged, &self.changed);
+        self.navigable_tight
+            .update_from(&self.merged, &self.changed);
         self.coverage.update_from(&self.merged, &self.changed);
     }
 

@@ -21,7 +21,13 @@ pub struct Timing {
 
 impl Default for Timing {
     fn default() -> Self {
-        Self { scan_period_s: 0.25, merge_period_s: 2.5, assignment_period_s: 5.0, thermal_period_s: 0.5, sample_period_s: 10.0 }
+        Self {
+            scan_period_s: 0.25,
+            merge_period_s: 2.5,
+            assignment_period_s: 5.0,
+            thermal_period_s: 0.5,
+            sample_period_s: 10.0,
+        }
     }
 }
 

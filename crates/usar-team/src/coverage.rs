@@ -18,7 +18,12 @@ impl CoverageCounter {
         let reachable = scene.reachable_mask(scene.geometry().world_to_cell(start));
         let reachable_cells = reachable.as_slice().iter().filter(|&&r| r).count();
         let n = reachable.as_slice().len();
-        Self { reachable, reachable_cells, known_reachable: 0, counted: vec![false; n] }
+        Self {
+            reachable,
+            reachable_cells,
+            known_reachable: 0,
+            counted: vec![false; n],
+        }
     }
 
     pub fn update_from(&mut self, grid: &OccupancyGrid, changed: &[u32]) {
@@ -39,7 +44,11 @@ impl CoverageCounter {
 
     /// Explored ÷ reachable area, in [0, 1].
     pub fn coverage(&self) -> f64 {
-        if self.reachable_cells == 0 { 0.0 } else { self.known_reachable as f64 / self.reachable_cells as f64 }
+        if self.reachable_cells == 0 {
+            0.0
+        } else {
+            self.known_reachable as f64 / self.reachable_cells as f64
+        }
     }
 
     pub fn reachable_cells(&self) -> usize {

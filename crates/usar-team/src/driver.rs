@@ -36,7 +36,8 @@ impl PathFollower {
 
     /// Whether the robot at `pose` has reached the end of the path.
     pub fn is_done(&self, pose: Pose2) -> bool {
-        self.goal().is_none_or(|g| g.distance(pose.position()) <= GOAL_TOLERANCE_M)
+        self.goal()
+            .is_none_or(|g| g.distance(pose.position()) <= GOAL_TOLERANCE_M)
     }
 
     /// The velocity command that follows the path from `pose`.
@@ -45,17 +46,25 @@ impl PathFollower {
             return Velocity::default();
         }
         let here = pose.position();
-        while self.next + 1 < self.waypoints.len() && self.waypoints[self.next].distance(here) < LOOKAHEAD_M {
+        while self.next + 1 < self.waypoints.len()
+            && self.waypoints[self.next].distance(here) < LOOKAHEAD_M
+        {
             self.next += 1;
         }
         let target = self.waypoints[self.next];
         let error = normalize_angle(here.bearing_to(target) - pose.theta);
         let angular = (2.0 * error).clamp(-spec.max_angular_radps, spec.max_angular_radps);
         if error.abs() > TURN_IN_PLACE_RAD {
-            return Velocity { linear_mps: 0.0, angular_radps: angular };
+            return Velocity {
+                linear_mps: 0.0,
+                angular_radps: angular,
+            };
         }
         let remaining = self.waypoints.last().map_or(0.0, |g| g.distance(here));
         let linear = (spec.max_linear_mps * error.cos().powi(2)).min(remaining.max(0.1));
-        Velocity { linear_mps: linear, angular_radps: angular }
+        Velocity {
+            linear_mps: linear,
+            angular_radps: angular,
+        }
     }
 }

@@ -52,7 +52,11 @@ const YIELD_HALF_ANGLE_RAD: f64 = std::f64::consts::FRAC_PI_3;
 pub enum MissionError {
     /// The scene has fewer start poses than robots.
     #[error("scene {scene} has {available} start poses, {requested} robots were asked for")]
-    NotEnoughStartPoses { scene: String, available: usize, requested: usize },
+    NotEnoughStartPoses {
+        scene: String,
+        available: usize,
+        requested: usize,
+    },
     /// A robot could not be placed.
     #[error(transparent)]
     Placement(#[from] PlacementError),
@@ -105,7 +109,9 @@ impl TeamMission {
             ("sim.dt_s", config.sim.dt_s),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(MissionError::Config(format!("{name} must be a positive number of seconds, found {v}")));
+                return Err(MissionError::Config(format!(
+                    "{name} must be a positive number of seconds, found {v}"
+                )));
             }
         }
         if scene.start_poses.len() < config.robots {
@@ -139,8 +145,21 @@ impl TeamMission {
         // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
         let half_cell = scene.geometry().resolution_m / 2.0;
         let tight = config.robot.width_m / 2.0 + TIGHT_MARGIN_M + half_cell;
-        let base = BaseStation::new(&scene, params, config.robot.circumscribed_radius_m() + half_cell, tight, start);
-        Ok(Self { config, sim, agents, base, victims_seen: Vec::new(), samples: Vec::new() })
+        let base = BaseStation::new(
+            &scene,
+            params,
+            config.robot.circumscribed_radius_m() + half_cell,
+            tight,
+            start,
+        );
+        Ok(Self {
+            config,
+            sim,
+            agents,
+            base,
+            victims_seen: Vec::new(),
+            samples: Vec::new(),
+        })
     }
 
     pub fn base_station(&self) -> &BaseStation {
@@ -167,7 +186,8 @@ impl TeamMission {
     }
 
     fn merge(&mut self) {
-        let mut maps: Vec<&mut OccupancyGrid> = self.agents.iter_mut().map(|a| &mut a.map).collect();
+        let mut maps: Vec<&mut OccupancyGrid> =
+            self.agents.iter_mut().map(|a| &mut a.map).collect();
         self.base.merge(&mut maps);
     }
 
@@ -181,7 +201,11 @@ impl TeamMission {
                 if let (true, HeatTruth::Victim(id)) = (d.human_signature, d.truth)
                     && !self.victims_seen.iter().any(|v| v.victim_id == id)
                 {
-                    self.victims_seen.push(VictimSighting { victim_id: id, robot: a.id.0, time_s: now });
+                    self.victims_seen.push(VictimSighting {
+                        victim_id: id,
+                        robot: a.id.0,
+                        time_s: now,
+                    });
                 }
             }
         }
@@ -232,12 +256,20 @@ impl TeamMission {
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
         let merged = &self.base.merged;
-        let navigable = |nav: &usar_map::NavigableMap, c: Cell| g.checked_index(c).is_some_and(|i| nav.is_navigable(merged, i));
-        let cands: Vec<Candidate> = candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
-        let mut grids = [&self.base.navigable, &self.base.navigable_tight].map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
+        let navigable = |nav: &usar_map::NavigableMap, c: Cell| {
+            g.checked_index(c)
+                .is_some_and(|i| nav.is_navigable(merged, i))
+        };
+        let cands: Vec<Candidate> =
+            candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
+        let mut grids = [&self.base.navigable, &self.base.navigable_tight]
+            .map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
         let now = self.sim.time_s();
         // Targets of robots that keep theirs are taken (one robot per candidate).
-        let keep: Vec<Cell> = (0..self.agents.len()).filter(|i| !who.contains(i)).filter_map(|i| self.agents[i].target).collect();
+        let keep: Vec<Cell> = (0..self.agents.len())
+            .filter(|i| !who.contains(i))
+            .filter_map(|i| self.agents[i].target)
+            .collect();
         let clearance = self.config.robot.circumscribed_radius_m() * 2.0;
         let mut costs = Vec::with_capacity(who.len());
         for &i in who {
@@ -260,7 +292,8 @@ impl TeamMission {
                     block_disc(grid, p, clearance, &mut closed);
                 }
                 let sources = self.source_cells(grid, pose.position(), all_sources);
-                let was_passable: Vec<bool> = sources.iter().map(|&c| grid.is_passable(c)).collect();
+                let was_passable: Vec<bool> =
+                    sources.iter().map(|&c| grid.is_passable(c)).collect();
                 for &c in &sources {
                     grid.set_passable(c, true);
                 }
@@ -273,7 +306,12 @@ impl TeamMission {
                     grid.set_passable(c, true);
                 }
                 for (k, c) in cands.iter().enumerate() {
-                    if keep.contains(&c.cell) || agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
+                    if keep.contains(&c.cell)
+                        || agent
+                            .blacklist
+                            .iter()
+                            .any(|&(b, _)| b.chebyshev(c.cell) <= 3)
+                    {
                         row[k] = None;
                     } else if let (Some(cost), Some(t)) = (row[k], agent.target)
                         && t.chebyshev(c.cell) <= COMMITMENT_CELLS
@@ -283,7 +321,16 @@ impl TeamMission {
                 }
                 if std::env::var("USAR_DEBUG").is_ok() {
                     let agent = &self.agents[i];
-                    eprintln!("  robot {i} at {:.2},{:.2} sources {:?} reachable {} field reached {} class {:?} blacklist {}", pose.x, pose.y, sources, row.iter().filter(|c| c.is_some()).count(), agent.field.reached_count(), self.base.merged.class(g.world_to_cell(pose.position())), agent.blacklist.len());
+                    eprintln!(
+                        "  robot {i} at {:.2},{:.2} sources {:?} reachable {} field reached {} class {:?} blacklist {}",
+                        pose.x,
+                        pose.y,
+                        sources,
+                        row.iter().filter(|c| c.is_some()).count(),
+                        agent.field.reached_count(),
+                        self.base.merged.class(g.world_to_cell(pose.position())),
+                        agent.blacklist.len()
+                    );
                 }
                 if row.iter().any(Option::is_some) {
                     break;
@@ -294,8 +341,17 @@ impl TeamMission {
         let chosen = assign_nearest(&costs);
         let mut any = false;
         if std::env::var("USAR_DEBUG").is_ok() {
-            eprintln!("t={:.1} who={:?} cands={} chosen={:?} costs={:?}", now, who, cands.len(), chosen, costs.iter().map(|r| r.iter().filter(|c| c.is_some()).count()).collect::<Vec<_>>());
-
+            eprintln!(
+                "t={:.1} who={:?} cands={} chosen={:?} costs={:?}",
+                now,
+                who,
+                cands.len(),
+                chosen,
+                costs
+                    .iter()
+                    .map(|r| r.iter().filter(|c| c.is_some()).count())
+                    .collect::<Vec<_>>()
+            );
         }
         for (k, &i) in who.iter().enumerate() {
             let agent = &mut self.agents[i];
@@ -306,15 +362,23 @@ impl TeamMission {
                     if agent.target == Some(target) && !agent.follower.is_empty() {
                         continue;
                     }
-                    let path = agent.field.path_to_source(target).map(|p| p.cells).unwrap_or_default();
-                    let waypoints: Vec<Point2> = path.iter().rev().map(|&c| g.cell_center(c)).collect();
+                    let path = agent
+                        .field
+                        .path_to_source(target)
+                        .map(|p| p.cells)
+                        .unwrap_or_default();
+                    let waypoints: Vec<Point2> =
+                        path.iter().rev().map(|&c| g.cell_center(c)).collect();
                     agent.follower = PathFollower::new(waypoints);
                     agent.target = Some(target);
                     agent.recoveries = 0;
                 }
                 None => {
                     agent.target = None;
-                    agent.follower = PathFollower::new(retrace(&agent.trajectory, self.sim.robot(agent.id).pose.position()));
+                    agent.follower = PathFollower::new(retrace(
+                        &agent.trajectory,
+                        self.sim.robot(agent.id).pose.position(),
+                    ));
                     agent.escaping = !agent.follower.is_empty();
                 }
             }
@@ -362,7 +426,10 @@ impl TeamMission {
                         Some((cmd, until)) if now < until => {
                             if r.in_contact() && cmd.linear_mps != 0.0 {
                                 // Backing up is blocked too: turn instead.
-                                let turn = Velocity { linear_mps: 0.0, angular_radps: RECOVERY_TURN_RADPS };
+                                let turn = Velocity {
+                                    linear_mps: 0.0,
+                                    angular_radps: RECOVERY_TURN_RADPS,
+                                };
                                 a.recovery = Some((turn, now + RECOVERY_S));
                                 return turn;
                             }
@@ -381,13 +448,20 @@ impl TeamMission {
                             Velocity::default()
                         }
                         None if r.in_contact() => {
-                            let back = Velocity { linear_mps: RECOVERY_BACK_MPS, angular_radps: 0.0 };
+                            let back = Velocity {
+                                linear_mps: RECOVERY_BACK_MPS,
+                                angular_radps: 0.0,
+                            };
                             a.recovery = Some((back, now + RECOVERY_S));
                             back
                         }
                         None => {
                             let mut cmd = a.follower.command(r.pose, &r.spec);
-                            if cmd.linear_mps > 0.0 && self.sim.robots()[..i].iter().any(|o| gives_way(r.pose, o.pose.position())) {
+                            if cmd.linear_mps > 0.0
+                                && self.sim.robots()[..i]
+                                    .iter()
+                                    .any(|o| gives_way(r.pose, o.pose.position()))
+                            {
                                 cmd.linear_mps = 0.0;
                             }
                             cmd
@@ -422,7 +496,8 @@ impl TeamMission {
                 let done = a.follower.is_done(r.pose);
                 if a.target.is_some() && !done && now - a.progress_mark.1 >= STUCK_WINDOW_S {
                     if r.pose.position().distance(a.progress_mark.0) < STUCK_DISTANCE_M {
-                        a.blacklist.push((a.target.expect("has target"), now + BLACKLIST_S));
+                        a.blacklist
+                            .push((a.target.expect("has target"), now + BLACKLIST_S));
                         a.follower = PathFollower::default();
                         a.target = None;
                         who.push(i);
@@ -453,7 +528,11 @@ impl TeamMission {
             if !who.is_empty() {
                 self.assign(&who);
             }
-            if self.agents.iter().all(|a| a.target.is_none() && !a.escaping) {
+            if self
+                .agents
+                .iter()
+                .all(|a| a.target.is_none() && !a.escaping)
+            {
                 let since = *idle_since.get_or_insert(now);
                 if now - since >= EXPLORED_AFTER_S {
                     finish = Finish::Explored;
@@ -473,7 +552,11 @@ impl TeamMission {
             }
         }
         self.merge();
-        if self.samples.last().is_none_or(|s| s.time_s < self.sim.time_s()) {
+        if self
+            .samples
+            .last()
+            .is_none_or(|s| s.time_s < self.sim.time_s())
+        {
             self.sample();
         }
         on_progress(self.sim.time_s());
@@ -503,7 +586,12 @@ impl TeamMission {
                 .iter()
                 .map(|a| {
                     let r = self.sim.robot(a.id);
-                    RobotOutcome { robot: a.id.0, distance_m: r.distance_m, collisions: r.collisions, trajectory: a.trajectory.clone() }
+                    RobotOutcome {
+                        robot: a.id.0,
+                        distance_m: r.distance_m,
+                        collisions: r.collisions,
+                        trajectory: a.trajectory.clone(),
+                    }
                 })
                 .collect(),
             series: self.samples,
@@ -536,7 +624,8 @@ fn retrace(trajectory: &[Point2], here: Point2) -> Vec<Point2> {
 fn gives_way(pose: usar_world::Pose2, other: Point2) -> bool {
     let here = pose.position();
     here.distance(other) < YIELD_DISTANCE_M
-        && usar_world::normalize_angle(here.bearing_to(other) - pose.theta).abs() < YIELD_HALF_ANGLE_RAD
+        && usar_world::normalize_angle(here.bearing_to(other) - pose.theta).abs()
+            < YIELD_HALF_ANGLE_RAD
 }
 
 /// Marks the cells within `radius_m` of `p` impassable, remembering the ones it changed.

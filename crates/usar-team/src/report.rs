@@ -55,18 +55,34 @@ pub fn render_explored_map(scene: &Scene, outcome: &TeamOutcome) -> Canvas {
     canvas
 }
 
-fn csv_bytes(rows: impl FnOnce(&mut csv::Writer<Vec<u8>>) -> csv::Result<()>) -> Result<Vec<u8>, ReportError> {
+fn csv_bytes(
+    rows: impl FnOnce(&mut csv::Writer<Vec<u8>>) -> csv::Result<()>,
+) -> Result<Vec<u8>, ReportError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     rows(&mut w).map_err(|e| ReportError::Csv(e.to_string()))?;
     w.into_inner().map_err(|e| ReportError::Csv(e.to_string()))
 }
 
 /// Writes the report folder `dir` (created if needed) and returns the summary it wrote.
-pub fn write_report(dir: &Path, scene: &Scene, outcome: &TeamOutcome, extra: serde_json::Value) -> Result<serde_json::Value, ReportError> {
-    std::fs::create_dir_all(dir).map_err(|io| ReportError::Folder { path: dir.display().to_string(), io })?;
+pub fn write_report(
+    dir: &Path,
+    scene: &Scene,
+    outcome: &TeamOutcome,
+    extra: serde_json::Value,
+) -> Result<serde_json::Value, ReportError> {
+    std::fs::create_dir_all(dir).map_err(|io| ReportError::Folder {
+        path: dir.display().to_string(),
+        io,
+    })?;
     render_explored_map(scene, outcome).save_png(&dir.join("map.png"))?;
     let coverage_csv = csv_bytes(|w| {
-        w.write_record(["time_s", "coverage", "explored_area_m2", "victims_seen", "distance_m"])?;
+        w.write_record([
+            "time_s",
+            "coverage",
+            "explored_area_m2",
+            "victims_seen",
+            "distance_m",
+        ])?;
         for s in &outcome.series {
             w.write_record([
                 format!("{:.1}", s.time_s),
@@ -83,7 +99,14 @@ pub fn write_report(dir: &Path, scene: &Scene, outcome: &TeamOutcome, extra: ser
         title: format!("Coverage of {} by {} robots", outcome.scene, outcome.robots),
         x_label: "time (s)".into(),
         y_label: "known fraction of the reachable area".into(),
-        series: vec![Series::line("coverage", outcome.series.iter().map(|s| (s.time_s, s.coverage)).collect())],
+        series: vec![Series::line(
+            "coverage",
+            outcome
+                .series
+                .iter()
+                .map(|s| (s.time_s, s.coverage))
+                .collect(),
+        )],
         y_range: Some((0.0, 1.0)),
     };
     chart.save(&dir.join("coverage.png"))?;
@@ -91,7 +114,10 @@ pub fn write_report(dir: &Path, scene: &Scene, outcome: &TeamOutcome, extra: ser
     let victims_csv = csv_bytes(|w| {
         w.write_record(["victim_id", "x_m", "y_m", "seen", "time_s", "robot"])?;
         for v in &scene.victims {
-            let seen = outcome.victim_sightings.iter().find(|s| s.victim_id == v.id);
+            let seen = outcome
+                .victim_sightings
+                .iter()
+                .find(|s| s.victim_id == v.id);
             w.write_record([
                 v.id.to_string(),
                 format!("{:.2}", v.position.x),
@@ -121,7 +147,8 @@ pub fn write_report(dir: &Path, scene: &Scene, outcome: &TeamOutcome, extra: ser
     if let (Some(obj), serde_json::Value::Object(more)) = (summary.as_object_mut(), extra) {
         obj.extend(more);
     }
-    let mut text = serde_json::to_string_pretty(&summary).map_err(|e| ReportError::Csv(e.to_string()))?;
+    let mut text =
+        serde_json::to_string_pretty(&summary).map_err(|e| ReportError::Csv(e.to_string()))?;
     text.push('\n');
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     Ok(summary)

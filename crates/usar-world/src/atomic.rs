@@ -11,7 +11,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -41,6 +44,10 @@ mod tests {
     #[test]
     fn write_atomic_into_a_missing_folder_fails_with_the_path() {
         let err = super::write_atomic(std::path::Path::new("/nonexistent/x/a.txt"), b"x");
-        assert!(err.unwrap_err().to_string().contains("/nonexistent/x/a.txt"));
+        assert!(
+            err.unwrap_err()
+                .to_string()
+                .contains("/nonexistent/x/a.txt")
+        );
     }
 }

@@ -10,16 +10,35 @@ pub enum WorldError {
     Io { path: String, io: std::io::Error },
     /// The file's syntax is wrong at a known place (`location` is e.g. "line 3" or "byte 17").
     #[error("{path}: {location}: {message}")]
-    Syntax { path: String, location: String, message: String },
+    Syntax {
+        path: String,
+        location: String,
+        message: String,
+    },
     /// A field holds a value outside what the format allows.
     #[error("{path}: field `{field}`: found {found}, expected {expected}")]
-    InvalidField { path: String, field: String, found: String, expected: String },
+    InvalidField {
+        path: String,
+        field: String,
+        found: String,
+        expected: String,
+    },
     /// The file is of a known format but a version this build cannot read.
     #[error("{path}: unsupported {format} version {found}, expected {expected}")]
-    UnsupportedVersion { path: String, format: String, found: String, expected: String },
+    UnsupportedVersion {
+        path: String,
+        format: String,
+        found: String,
+        expected: String,
+    },
     /// A file that another file refers to is missing or unreadable.
     #[error("{path}: field `{field}` refers to {target}, which cannot be read: {io}")]
-    MissingReference { path: String, field: String, target: String, io: std::io::Error },
+    MissingReference {
+        path: String,
+        field: String,
+        target: String,
+        io: std::io::Error,
+    },
     /// An image could not be decoded.
     #[error("{path}: cannot decode image: {message}")]
     Image { path: String, message: String },
@@ -27,7 +46,10 @@ pub enum WorldError {
 
 impl WorldError {
     pub fn io(path: &Path, io: std::io::Error) -> Self {
-        WorldError::Io { path: path.display().to_string(), io }
+        WorldError::Io {
+            path: path.display().to_string(),
+            io,
+        }
     }
 
     pub fn invalid(

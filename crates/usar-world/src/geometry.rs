@@ -34,7 +34,10 @@ impl Point2 {
 
     /// The point `range_m` away from `self` in direction `angle_rad`.
     pub fn offset(self, angle_rad: f64, range_m: f64) -> Point2 {
-        Point2::new(self.x + range_m * angle_rad.cos(), self.y + range_m * angle_rad.sin())
+        Point2::new(
+            self.x + range_m * angle_rad.cos(),
+            self.y + range_m * angle_rad.sin(),
+        )
     }
 }
 
@@ -58,7 +61,10 @@ impl Pose2 {
     /// Transforms a point given in this pose's body frame (x forward, y left) to the world frame.
     pub fn to_world(self, body: Point2) -> Point2 {
         let (s, c) = self.theta.sin_cos();
-        Point2::new(self.x + c * body.x - s * body.y, self.y + s * body.x + c * body.y)
+        Point2::new(
+            self.x + c * body.x - s * body.y,
+            self.y + s * body.x + c * body.y,
+        )
     }
 
     /// Transforms a world point into this pose's body frame (x forward, y left).
@@ -108,7 +114,10 @@ impl Rect {
     }
 
     pub fn center(&self) -> Point2 {
-        Point2::new((self.min.x + self.max.x) / 2.0, (self.min.y + self.max.y) / 2.0)
+        Point2::new(
+            (self.min.x + self.max.x) / 2.0,
+            (self.min.y + self.max.y) / 2.0,
+        )
     }
 
     pub fn contains(&self, p: Point2) -> bool {

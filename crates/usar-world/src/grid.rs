@@ -20,13 +20,23 @@ impl Cell {
 
     /// Chebyshev (king-move) distance in cells.
     pub fn chebyshev(self, other: Cell) -> i32 {
-        (self.col - other.col).abs().max((self.row - other.row).abs())
+        (self.col - other.col)
+            .abs()
+            .max((self.row - other.row).abs())
     }
 }
 
 /// The 8 neighbour offsets, 4-connected ones first: E, N, W, S, NE, NW, SW, SE.
-pub const NEIGHBORS8: [(i32, i32); 8] =
-    [(1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, -1)];
+pub const NEIGHBORS8: [(i32, i32); 8] = [
+    (1, 0),
+    (0, 1),
+    (-1, 0),
+    (0, -1),
+    (1, 1),
+    (-1, 1),
+    (-1, -1),
+    (1, -1),
+];
 
 /// Size, resolution and placement of a grid in the world frame.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,7 +53,12 @@ pub struct GridGeometry {
 
 impl GridGeometry {
     pub fn new(width: u32, height: u32, resolution_m: f64, origin: Point2) -> Self {
-        Self { width, height, resolution_m, origin }
+        Self {
+            width,
+            height,
+            resolution_m,
+            origin,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -64,7 +79,12 @@ impl GridGeometry {
     /// Row-major index of an in-bounds cell.
     #[inline]
     pub fn index(&self, cell: Cell) -> usize {
-        debug_assert!(self.contains(cell), "{cell:?} outside {}x{}", self.width, self.height);
+        debug_assert!(
+            self.contains(cell),
+            "{cell:?} outside {}x{}",
+            self.width,
+            self.height
+        );
         cell.row as usize * self.width as usize + cell.col as usize
     }
 
@@ -100,7 +120,10 @@ impl GridGeometry {
 
     /// World width and height, metres.
     pub fn extent_m(&self) -> (f64, f64) {
-        (self.width as f64 * self.resolution_m, self.height as f64 * self.resolution_m)
+        (
+            self.width as f64 * self.resolution_m,
+            self.height as f64 * self.resolution_m,
+        )
     }
 
     /// Area of one cell, m².
@@ -118,7 +141,10 @@ pub struct Grid<T> {
 
 impl<T: Clone> Grid<T> {
     pub fn filled(geometry: GridGeometry, value: T) -> Self {
-        Self { geometry, data: vec![value; geometry.len()] }
+        Self {
+            geometry,
+            data: vec![value; geometry.len()],
+        }
     }
 }
 
@@ -159,18 +185,26 @@ impl<T> Grid<T> {
 
     #[inline]
     pub fn get_mut(&mut self, cell: Cell) -> Option<&mut T> {
-        self.geometry.checked_index(cell).map(move |i| &mut self.data[i])
+        self.geometry
+            .checked_index(cell)
+            .map(move |i| &mut self.data[i])
     }
 
     /// Builds a grid of the same geometry by mapping every value.
     pub fn map<U>(&self, f: impl FnMut(&T) -> U) -> Grid<U> {
-        Grid { geometry: self.geometry, data: self.data.iter().map(f).collect() }
+        Grid {
+            geometry: self.geometry,
+            data: self.data.iter().map(f).collect(),
+        }
     }
 
     /// Iterates cells with their values, row-major.
     pub fn iter_cells(&self) -> impl Iterator<Item = (Cell, &T)> + '_ {
         let w = self.geometry.width as usize;
-        self.data.iter().enumerate().map(move |(i, v)| (Cell::new((i % w) as i32, (i / w) as i32), v))
+        self.data
+            .iter()
+            .enumerate()
+            .map(move |(i, v)| (Cell::new((i % w) as i32, (i / w) as i32), v))
     }
 }
 

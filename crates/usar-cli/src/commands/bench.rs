@@ -45,7 +45,14 @@ fn time_ms(f: impl FnOnce()) -> f64 {
 
 /// The benchmark floor: a seeded 100 m × 100 m office.
 pub fn bench_scene() -> Scene {
-    generate_office(1, &BuildingParams { width_m: 100.0, height_m: 100.0, ..BuildingParams::office() })
+    generate_office(
+        1,
+        &BuildingParams {
+            width_m: 100.0,
+            height_m: 100.0,
+            ..BuildingParams::office()
+        },
+    )
 }
 
 /// Free poses spread over the scene, drawn with a fixed seed.
@@ -54,7 +61,10 @@ fn free_poses(scene: &Scene, n: usize) -> Vec<Pose2> {
     let mut rng = Pcg64Mcg::seed_from_u64(42);
     let mut poses = Vec::with_capacity(n);
     while poses.len() < n {
-        let c = Cell::new(rng.random_range(0..g.width as i32), rng.random_range(0..g.height as i32));
+        let c = Cell::new(
+            rng.random_range(0..g.width as i32),
+            rng.random_range(0..g.height as i32),
+        );
         if !scene.is_obstacle(c) {
             let p = g.cell_center(c);
             poses.push(Pose2::new(p.x, p.y, rng.random_range(-3.1..3.1)));
@@ -73,7 +83,10 @@ fn corners(grid: &NavGrid) -> (Cell, Cell) {
             .min_by_key(|&c| ((c.col - target.col).pow(2) + (c.row - target.row).pow(2), c))
             .expect("a passable cell")
     };
-    (nearest(Cell::new(0, 0)), nearest(Cell::new(g.width as i32 - 1, g.height as i32 - 1)))
+    (
+        nearest(Cell::new(0, 0)),
+        nearest(Cell::new(g.width as i32 - 1, g.height as i32 - 1)),
+    )
 }
 
 pub fn run(args: BenchArgs) -> CmdResult {
@@ -104,7 +117,10 @@ pub fn run(args: BenchArgs) -> CmdResult {
     bar.inc(1);
 
     // A* and distance fields on the floor inflated for a wheeled robot.
-    let blocked = inflate(&scene.obstacle.map(|&o| o != 0), RobotSpec::wheeled().circumscribed_radius_m());
+    let blocked = inflate(
+        &scene.obstacle.map(|&o| o != 0),
+        RobotSpec::wheeled().circumscribed_radius_m(),
+    );
     let nav = NavGrid::from_blocked(&blocked);
     let (start, goal) = corners(&nav);
     let mut astar = GridAStar::new();
@@ -115,7 +131,9 @@ pub fn run(args: BenchArgs) -> CmdResult {
             (0..reps)
                 .map(|_| {
                     time_ms(|| {
-                        let p = astar.plan(&nav, start, goal, conn).expect("corners are connected");
+                        let p = astar
+                            .plan(&nav, start, goal, conn)
+                            .expect("corners are connected");
                         path_length_m = p.length_m(g.resolution_m);
                     })
                 })
@@ -128,8 +146,16 @@ pub fn run(args: BenchArgs) -> CmdResult {
     let (astar8_ms, astar8_expanded) = plan(Connectivity::Eight);
     bar.inc(1);
     let mut field = DistanceField::new();
-    let distance_field_ms = median((0..reps).map(|_| time_ms(|| field.compute(&nav, &[start], Connectivity::Eight))).collect());
-    let distance_field4_ms = median((0..reps).map(|_| time_ms(|| field.compute(&nav, &[start], Connectivity::Four))).collect());
+    let distance_field_ms = median(
+        (0..reps)
+            .map(|_| time_ms(|| field.compute(&nav, &[start], Connectivity::Eight)))
+            .collect(),
+    );
+    let distance_field4_ms = median(
+        (0..reps)
+            .map(|_| time_ms(|| field.compute(&nav, &[start], Connectivity::Four)))
+            .collect(),
+    );
     bar.inc(1);
 
     // Incremental frontier update after one scan, along a walk through the floor.
@@ -154,7 +180,10 @@ pub fn run(args: BenchArgs) -> CmdResult {
     bar.finish_and_clear();
 
     let report = BenchReport {
-        grid: format!("office 100 x 100 m at {} m ({} x {} cells), inflated by the wheeled robot's radius", g.resolution_m, g.width, g.height),
+        grid: format!(
+            "office 100 x 100 m at {} m ({} x {} cells), inflated by the wheeled robot's radius",
+            g.resolution_m, g.width, g.height
+        ),
         lidar_scans_per_s,
         astar4_ms,
         astar4_expanded,
@@ -174,13 +203,34 @@ pub fn run(args: BenchArgs) -> CmdResult {
         print_json(&report)
     } else {
         println!("{}", report.grid);
-        println!("  laser scans + occupancy update  {:>10.0} scans/s   (target ≥ 20 000)", report.lidar_scans_per_s);
-        println!("  A* 4-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)", report.astar4_ms, report.astar4_expanded);
-        println!("  A* 8-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)", report.astar8_ms, report.astar8_expanded);
-        println!("  distance field, 8-connected     {:>10.2} ms       (target ≤ 10)", report.distance_field_ms);
-        println!("  distance field, 4-connected     {:>10.2} ms", report.distance_field4_ms);
-        println!("  frontier update after one scan  {:>10.3} ms       (target ≤ 0.3)", report.frontier_update_ms);
-        println!("  frontier clustering             {:>10.3} ms", report.frontier_clusters_ms);
+        println!(
+            "  laser scans + occupancy update  {:>10.0} scans/s   (target ≥ 20 000)",
+            report.lidar_scans_per_s
+        );
+        println!(
+            "  A* 4-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)",
+            report.astar4_ms, report.astar4_expanded
+        );
+        println!(
+            "  A* 8-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)",
+            report.astar8_ms, report.astar8_expanded
+        );
+        println!(
+            "  distance field, 8-connected     {:>10.2} ms       (target ≤ 10)",
+            report.distance_field_ms
+        );
+        println!(
+            "  distance field, 4-connected     {:>10.2} ms",
+            report.distance_field4_ms
+        );
+        println!(
+            "  frontier update after one scan  {:>10.3} ms       (target ≤ 0.3)",
+            report.frontier_update_ms
+        );
+        println!(
+            "  frontier clustering             {:>10.3} ms",
+            report.frontier_clusters_ms
+        );
         Ok(())
     }
 }

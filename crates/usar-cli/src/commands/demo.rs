@@ -22,7 +22,10 @@ pub fn run(args: DemoArgs) -> CmdResult {
             scene.victims.len()
         );
     }
-    let config = TeamConfig { robots: 4, ..TeamConfig::default() };
+    let config = TeamConfig {
+        robots: 4,
+        ..TeamConfig::default()
+    };
     let outcome = run_mission(scene.clone(), config, args.seed, args.json)?;
     let summary = usar_team::report::write_report(
         &args.out,

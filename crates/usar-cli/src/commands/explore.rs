@@ -9,7 +9,12 @@ use usar_team::{TeamConfig, TeamMission, TeamOutcome};
 use usar_world::Scene;
 
 /// Runs one mission with a progress bar (hidden when `quiet`).
-pub fn run_mission(scene: Arc<Scene>, config: TeamConfig, seed: u64, quiet: bool) -> CmdResult<TeamOutcome> {
+pub fn run_mission(
+    scene: Arc<Scene>,
+    config: TeamConfig,
+    seed: u64,
+    quiet: bool,
+) -> CmdResult<TeamOutcome> {
     let total = config.duration_s;
     let mission = TeamMission::new(scene, config, seed).input()?;
     let bar = progress::bar(total.round() as u64, "exploring", quiet);
@@ -20,12 +25,17 @@ pub fn run_mission(scene: Arc<Scene>, config: TeamConfig, seed: u64, quiet: bool
 
 pub fn run(args: ExploreArgs) -> CmdResult {
     if !(args.minutes.is_finite() && args.minutes > 0.0) {
-        return Err(bad_input(anyhow::anyhow!("--minutes: found {}, expected a positive number", args.minutes)));
+        return Err(bad_input(anyhow::anyhow!(
+            "--minutes: found {}, expected a positive number",
+            args.minutes
+        )));
     }
     if let Some(c) = args.stop_at_coverage
         && !(0.0..=1.0).contains(&c)
     {
-        return Err(bad_input(anyhow::anyhow!("--stop-at-coverage: found {c}, expected a fraction in [0, 1]")));
+        return Err(bad_input(anyhow::anyhow!(
+            "--stop-at-coverage: found {c}, expected a fraction in [0, 1]"
+        )));
     }
     let scene = Arc::new(scene_source::load(&args.scene, args.seed, &args.image)?);
     let config = TeamConfig {
@@ -37,7 +47,13 @@ pub fn run(args: ExploreArgs) -> CmdResult {
     };
     let outcome = run_mission(scene.clone(), config, args.seed, args.json)?;
     if let Some(dir) = &args.out {
-        usar_team::report::write_report(dir, &scene, &outcome, serde_json::json!({ "seed": args.seed })).input()?;
+        usar_team::report::write_report(
+            dir,
+            &scene,
+            &outcome,
+            serde_json::json!({ "seed": args.seed }),
+        )
+        .input()?;
     }
     if args.json {
         print_json(&outcome)

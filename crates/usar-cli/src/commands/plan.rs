@@ -23,30 +23,51 @@ pub fn run(args: PlanArgs) -> CmdResult {
                 report.max_abs_error
             );
             for m in &report.mismatches {
-                println!("  scenario {}: {:?} → {:?} expected {} found {:?}", m.index, m.start, m.goal, m.expected, m.found);
+                println!(
+                    "  scenario {}: {:?} → {:?} expected {} found {:?}",
+                    m.index, m.start, m.goal, m.expected, m.found
+                );
             }
         }
         if report.matched < report.scenarios {
             return Err(Failure {
-                error: anyhow::anyhow!("{} scenarios do not match their optimal length", report.scenarios - report.matched),
+                error: anyhow::anyhow!(
+                    "{} scenarios do not match their optimal length",
+                    report.scenarios - report.matched
+                ),
                 code: 1,
             });
         }
         return Ok(());
     }
     let (Some(spec), Some(from), Some(to)) = (&args.scene, args.from, args.to) else {
-        return Err(bad_input(anyhow::anyhow!("give --scen FILE, or --scene SCENE --from x,y --to x,y")));
+        return Err(bad_input(anyhow::anyhow!(
+            "give --scen FILE, or --scene SCENE --from x,y --to x,y"
+        )));
     };
     let scene = scene_source::load(spec, args.seed, &args.image)?;
     let robot = scene_source::load_robot(&args.robot)?;
     let g = *scene.geometry();
-    let (start, goal) = (g.world_to_cell(Point2::new(from.0, from.1)), g.world_to_cell(Point2::new(to.0, to.1)));
+    let (start, goal) = (
+        g.world_to_cell(Point2::new(from.0, from.1)),
+        g.world_to_cell(Point2::new(to.0, to.1)),
+    );
     for (name, cell, p) in [("--from", start, from), ("--to", goal, to)] {
         if !g.contains(cell) {
-            return Err(bad_input(anyhow::anyhow!("{name} {},{} lies outside the scene ({} × {} m from {:?})", p.0, p.1, g.extent_m().0, g.extent_m().1, g.origin)));
+            return Err(bad_input(anyhow::anyhow!(
+                "{name} {},{} lies outside the scene ({} × {} m from {:?})",
+                p.0,
+                p.1,
+                g.extent_m().0,
+                g.extent_m().1,
+                g.origin
+            )));
         }
     }
-    let blocked = inflate(&usar_sim::compute_blocked(&scene, &robot), robot.circumscribed_radius_m());
+    let blocked = inflate(
+        &usar_sim::compute_blocked(&scene, &robot),
+        robot.circumscribed_radius_m(),
+    );
     let grid = NavGrid::from_blocked(&blocked);
     let connectivity = match args.connectivity {
         ConnectivityArg::Four => Connectivity::Four,
@@ -65,7 +86,10 @@ pub fn run(args: PlanArgs) -> CmdResult {
         if args.json {
             print_json(&json!({ "found": false, "reason": why, "robot": robot.name }))?;
         }
-        return Err(Failure { error: anyhow::anyhow!("no route for robot {}: {why}", robot.name), code: 3 });
+        return Err(Failure {
+            error: anyhow::anyhow!("no route for robot {}: {why}", robot.name),
+            code: 3,
+        });
     };
     let waypoints: Vec<Point2> = path.cells.iter().map(|&c| g.cell_center(c)).collect();
     if let Some(png) = &args.png {
@@ -83,7 +107,12 @@ pub fn run(args: PlanArgs) -> CmdResult {
             "waypoints": waypoints,
         }))
     } else {
-        println!("path of {:.2} m through {} cells ({} expanded)", path.length_m(g.resolution_m), path.cells.len(), astar.expanded());
+        println!(
+            "path of {:.2} m through {} cells ({} expanded)",
+            path.length_m(g.resolution_m),
+            path.cells.len(),
+            astar.expanded()
+        );
         Ok(())
     }
 }

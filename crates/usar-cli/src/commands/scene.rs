@@ -1,7 +1,9 @@
 //! `usar scene gen|import|export|show|info`.
 
 use super::print_json;
-use crate::cli::{SceneCommand, SceneExportArgs, SceneGenArgs, SceneImportArgs, SceneInfoArgs, SceneShowArgs};
+use crate::cli::{
+    SceneCommand, SceneExportArgs, SceneGenArgs, SceneImportArgs, SceneInfoArgs, SceneShowArgs,
+};
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::scene_source;
 use serde_json::json;
@@ -63,14 +65,22 @@ fn import(args: SceneImportArgs) -> CmdResult {
         print_json(&summary(&scene, &args.output))
     } else {
         let g = scene.geometry();
-        println!("wrote {} ({}×{} cells at {} m)", args.output.display(), g.width, g.height, g.resolution_m);
+        println!(
+            "wrote {} ({}×{} cells at {} m)",
+            args.output.display(),
+            g.width,
+            g.height,
+            g.resolution_m
+        );
         Ok(())
     }
 }
 
 fn export(args: SceneExportArgs) -> CmdResult {
     if args.ros.is_none() && args.png.is_none() && args.scene_file.is_none() {
-        return Err(bad_input(anyhow::anyhow!("nothing to export: give --ros FILE.yaml, --png FILE.png or --scene-file FILE.json")));
+        return Err(bad_input(anyhow::anyhow!(
+            "nothing to export: give --ros FILE.yaml, --png FILE.png or --scene-file FILE.json"
+        )));
     }
     let scene = scene_source::load(&args.scene, args.seed, &args.image)?;
     let mut written = Vec::new();
@@ -79,7 +89,9 @@ fn export(args: SceneExportArgs) -> CmdResult {
         written.push(yaml.display().to_string());
     }
     if let Some(png) = &args.png {
-        render_scene(&scene, &RenderOptions::default()).save_png(png).input()?;
+        render_scene(&scene, &RenderOptions::default())
+            .save_png(png)
+            .input()?;
         written.push(png.display().to_string());
     }
     if let Some(file) = &args.scene_file {
@@ -96,13 +108,24 @@ fn export(args: SceneExportArgs) -> CmdResult {
 
 fn show(args: SceneShowArgs) -> CmdResult {
     let scene = scene_source::load(&args.scene, args.seed, &args.image)?;
-    let opts = RenderOptions { px_per_cell: args.px_per_cell, show_ground_truth: args.ground_truth, ..RenderOptions::default() };
+    let opts = RenderOptions {
+        px_per_cell: args.px_per_cell,
+        show_ground_truth: args.ground_truth,
+        ..RenderOptions::default()
+    };
     let canvas = render_scene(&scene, &opts);
     canvas.save_png(&args.png).input()?;
     if args.json {
-        print_json(&json!({ "png": args.png.display().to_string(), "width_px": canvas.width(), "height_px": canvas.height() }))
+        print_json(
+            &json!({ "png": args.png.display().to_string(), "width_px": canvas.width(), "height_px": canvas.height() }),
+        )
     } else {
-        println!("wrote {} ({}×{} px)", args.png.display(), canvas.width(), canvas.height());
+        println!(
+            "wrote {} ({}×{} px)",
+            args.png.display(),
+            canvas.width(),
+            canvas.height()
+        );
         Ok(())
     }
 }
@@ -118,11 +141,25 @@ fn info(args: SceneInfoArgs) -> CmdResult {
         "  grid {}×{} cells at {} m = {:.1} × {:.1} m",
         info.grid.width, info.grid.height, info.grid.resolution_m, info.width_m, info.height_m
     );
-    println!("  free area {:.1} m², reachable from start {:.1} m²", info.free_area_m2, info.reachable_area_m2);
+    println!(
+        "  free area {:.1} m², reachable from start {:.1} m²",
+        info.free_area_m2, info.reachable_area_m2
+    );
     for (label, share) in &info.labels {
-        println!("  {label:<12} {:>3} rooms {:>8.1} m² ({:.0} %)", share.rooms, share.area_m2, share.share * 100.0);
+        println!(
+            "  {label:<12} {:>3} rooms {:>8.1} m² ({:.0} %)",
+            share.rooms,
+            share.area_m2,
+            share.share * 100.0
+        );
     }
-    println!("  doors {}, victims {}, other heat sources {}, start poses {}", info.doors.len(), info.victims.len(), info.heat_sources.len(), info.start_poses.len());
+    println!(
+        "  doors {}, victims {}, other heat sources {}, start poses {}",
+        info.doors.len(),
+        info.victims.len(),
+        info.heat_sources.len(),
+        info.start_poses.len()
+    );
     if !info.junctions.is_empty() {
         println!("  junctions {}", info.junctions.len());
     }

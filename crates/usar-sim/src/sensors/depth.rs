@@ -64,27 +64,60 @@ impl DepthImage {
         if !d.is_finite() {
             return None;
         }
-        let (yaw, pitch) = (self.col_yaw_rad[col as usize], self.row_pitch_down_rad[row as usize]);
+        let (yaw, pitch) = (
+            self.col_yaw_rad[col as usize],
+            self.row_pitch_down_rad[row as usize],
+        );
         let horizontal = d * pitch.cos();
-        Some([horizontal * yaw.cos(), horizontal * yaw.sin(), -d * pitch.sin()])
+        Some([
+            horizontal * yaw.cos(),
+            horizontal * yaw.sin(),
+            -d * pitch.sin(),
+        ])
     }
 }
 
 /// Reads D_xy from `pose` on a floor at `floor_z_m`.
-pub fn read_depth(spec: &DepthSpec, world: &SensingWorld, pose: Pose2, floor_z_m: f64, rng: &mut impl Rng) -> DepthImage {
-    let spread = |n: u32, fov: f64, i: u32| if n > 1 { -fov / 2.0 + fov * f64::from(i) / f64::from(n - 1) } else { 0.0 };
-    let col_yaw_rad: Vec<f64> = (0..spec.cols).map(|c| -spread(spec.cols, spec.hfov_rad, c)).collect();
-    let row_pitch_down_rad: Vec<f64> = (0..spec.rows).map(|r| spec.pitch_down_rad + spread(spec.rows, spec.vfov_rad, r)).collect();
+pub fn read_depth(
+    spec: &DepthSpec,
+    world: &SensingWorld,
+    pose: Pose2,
+    floor_z_m: f64,
+    rng: &mut impl Rng,
+) -> DepthImage {
+    let spread = |n: u32, fov: f64, i: u32| {
+        if n > 1 {
+            -fov / 2.0 + fov * f64::from(i) / f64::from(n - 1)
+        } else {
+            0.0
+        }
+    };
+    let col_yaw_rad: Vec<f64> = (0..spec.cols)
+        .map(|c| -spread(spec.cols, spec.hfov_rad, c))
+        .collect();
+    let row_pitch_down_rad: Vec<f64> = (0..spec.rows)
+        .map(|r| spec.pitch_down_rad + spread(spec.rows, spec.vfov_rad, r))
+        .collect();
     let z0 = floor_z_m + spec.mount_height_m;
     let mut depth_m = Vec::with_capacity((spec.rows * spec.cols) as usize);
     for &pitch in &row_pitch_down_rad {
         for &yaw in &col_yaw_rad {
             let (s, c) = (pose.theta + yaw).sin_cos();
-            depth_m.push(match world.cast_3d(pose.position(), z0, c, s, pitch, spec.max_range_m) {
-                Some(d) => (d + gaussian(rng, spec.range_noise_sd_m)).max(0.0) as f32,
-                None => f32::INFINITY,
-            });
+            depth_m.push(
+                match world.cast_3d(pose.position(), z0, c, s, pitch, spec.max_range_m) {
+                    Some(d) => (d + gaussian(rng, spec.range_noise_sd_m)).max(0.0) as f32,
+                    None => f32::INFINITY,
+                },
+            );
         }
     }
-    DepthImage { pose, rows: spec.rows, cols: spec.cols, depth_m, col_yaw_rad, row_pitch_down_rad, sensor_z_m: z0 }
+    DepthImage {
+        pose,
+        rows: spec.rows,
+        cols: spec.cols,
+        depth_m,
+        col_yaw_rad,
+        row_pitch_down_rad,
+        sensor_z_m: z0,
+    }
 }

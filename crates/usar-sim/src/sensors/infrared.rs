@@ -36,7 +36,13 @@ pub struct InfraredReading {
     pub ranges_m: Vec<Option<f64>>,
 }
 
-pub fn read_infrared(spec: &InfraredSpec, world: &SensingWorld, pose: Pose2, floor_z_m: f64, rng: &mut impl Rng) -> InfraredReading {
+pub fn read_infrared(
+    spec: &InfraredSpec,
+    world: &SensingWorld,
+    pose: Pose2,
+    floor_z_m: f64,
+    rng: &mut impl Rng,
+) -> InfraredReading {
     let z = (floor_z_m + spec.mount_height_m) as f32;
     let ranges_m = spec
         .directions_rad

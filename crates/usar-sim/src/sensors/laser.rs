@@ -23,7 +23,13 @@ impl Default for LaserSpec {
     /// Paper 002 §4.1: 360° field of view, 1° resolution, 20 m range; 1 cm noise (a typical
     /// SICK/Hokuyo figure) and a 0.3 m mount.
     fn default() -> Self {
-        Self { beams: 360, fov_rad: TAU, max_range_m: 20.0, range_noise_sd_m: 0.01, mount_height_m: 0.3 }
+        Self {
+            beams: 360,
+            fov_rad: TAU,
+            max_range_m: 20.0,
+            range_noise_sd_m: 0.01,
+            mount_height_m: 0.3,
+        }
     }
 }
 
@@ -61,10 +67,28 @@ impl LaserModel {
     pub fn new(spec: LaserSpec) -> Self {
         let n = spec.beams.max(1) as usize;
         let full_circle = spec.fov_rad >= TAU - 1e-9;
-        let increment = if full_circle { TAU / n as f64 } else if n > 1 { spec.fov_rad / (n - 1) as f64 } else { 0.0 };
-        let angle_min = if full_circle { -std::f64::consts::PI } else { -spec.fov_rad / 2.0 };
-        let beam_dirs = (0..n).map(|i| (angle_min + i as f64 * increment).sin_cos()).map(|(s, c)| (c, s)).collect();
-        Self { spec, angle_min_rad: angle_min, angle_increment_rad: increment, beam_dirs }
+        let increment = if full_circle {
+            TAU / n as f64
+        } else if n > 1 {
+            spec.fov_rad / (n - 1) as f64
+        } else {
+            0.0
+        };
+        let angle_min = if full_circle {
+            -std::f64::consts::PI
+        } else {
+            -spec.fov_rad / 2.0
+        };
+        let beam_dirs = (0..n)
+            .map(|i| (angle_min + i as f64 * increment).sin_cos())
+            .map(|(s, c)| (c, s))
+            .collect();
+        Self {
+            spec,
+            angle_min_rad: angle_min,
+            angle_increment_rad: increment,
+            beam_dirs,
+        }
     }
 
     pub fn spec(&self) -> &LaserSpec {
@@ -72,7 +96,14 @@ impl LaserModel {
     }
 
     /// Scans from `pose`, standing on a floor at `floor_z_m`, into `scan` (its buffer is reused).
-    pub fn scan_into(&self, world: &SensingWorld, pose: Pose2, floor_z_m: f64, rng: &mut impl Rng, scan: &mut LaserScan) {
+    pub fn scan_into(
+        &self,
+        world: &SensingWorld,
+        pose: Pose2,
+        floor_z_m: f64,
+        rng: &mut impl Rng,
+        scan: &mut LaserScan,
+    ) {
         let (s, c) = pose.theta.sin_cos();
         let z = (floor_z_m + self.spec.mount_height_m) as f32;
         let origin = pose.position();
@@ -93,7 +124,13 @@ impl LaserModel {
     }
 
     /// Scans from `pose` into a new [`LaserScan`].
-    pub fn scan(&self, world: &SensingWorld, pose: Pose2, floor_z_m: f64, rng: &mut impl Rng) -> LaserScan {
+    pub fn scan(
+        &self,
+        world: &SensingWorld,
+        pose: Pose2,
+        floor_z_m: f64,
+        rng: &mut impl Rng,
+    ) -> LaserScan {
         let mut scan = LaserScan::default();
         self.scan_into(world, pose, floor_z_m, rng, &mut scan);
         scan

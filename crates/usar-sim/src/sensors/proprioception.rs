@@ -37,13 +37,30 @@ pub struct Odometry {
 
 impl Odometry {
     pub fn new(start: Pose2) -> Self {
-        Self { estimate: start, distance_m: 0.0 }
+        Self {
+            estimate: start,
+            distance_m: 0.0,
+        }
     }
 
     /// Adds one motion increment: `forward_m` along the heading, then a turn of `turn_rad`.
-    pub fn integrate(&mut self, forward_m: f64, turn_rad: f64, noise: &NoiseSpec, rng: &mut impl Rng) {
-        let forward = forward_m + gaussian(rng, noise.odometry_translation_sd_per_m * forward_m.abs().sqrt());
-        let turn = turn_rad + gaussian(rng, noise.odometry_rotation_sd_per_rad * turn_rad.abs().sqrt());
+    pub fn integrate(
+        &mut self,
+        forward_m: f64,
+        turn_rad: f64,
+        noise: &NoiseSpec,
+        rng: &mut impl Rng,
+    ) {
+        let forward = forward_m
+            + gaussian(
+                rng,
+                noise.odometry_translation_sd_per_m * forward_m.abs().sqrt(),
+            );
+        let turn = turn_rad
+            + gaussian(
+                rng,
+                noise.odometry_rotation_sd_per_rad * turn_rad.abs().sqrt(),
+            );
         let e = &mut self.estimate;
         e.x += forward * e.theta.cos();
         e.y += forward * e.theta.sin();
@@ -62,13 +79,22 @@ pub struct Attitude {
 impl Attitude {
     /// Inclination of the body from the horizontal plane, radians.
     pub fn inclination_rad(&self) -> f64 {
-        (self.pitch_rad.cos() * self.roll_rad.cos()).clamp(-1.0, 1.0).acos()
+        (self.pitch_rad.cos() * self.roll_rad.cos())
+            .clamp(-1.0, 1.0)
+            .acos()
     }
 }
 
 /// Attitude of a `length_m` × `width_m` robot at `pose`, from the floor heights under the middle
 /// of its front, back, left and right edges (obstacle cells count as the robot's own floor).
-pub fn read_attitude(world: &SensingWorld, pose: Pose2, length_m: f64, width_m: f64, noise: &NoiseSpec, rng: &mut impl Rng) -> Attitude {
+pub fn read_attitude(
+    world: &SensingWorld,
+    pose: Pose2,
+    length_m: f64,
+    width_m: f64,
+    noise: &NoiseSpec,
+    rng: &mut impl Rng,
+) -> Attitude {
     let floor = |p: Point2, fallback: f64| match world.height_at(p) {
         Some(h) if h.is_finite() => f64::from(h),
         _ => fallback,

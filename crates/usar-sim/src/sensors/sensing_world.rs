@@ -18,9 +18,18 @@ impl SensingWorld {
             .as_slice()
             .iter()
             .zip(scene.floor_height_m.as_slice())
-            .map(|(&o, &h)| if o != usar_world::obstacle::NONE { f32::INFINITY } else { h })
+            .map(|(&o, &h)| {
+                if o != usar_world::obstacle::NONE {
+                    f32::INFINITY
+                } else {
+                    h
+                }
+            })
             .collect();
-        Self { geometry: *scene.geometry(), blocking_height_m }
+        Self {
+            geometry: *scene.geometry(),
+            blocking_height_m,
+        }
     }
 
     pub fn geometry(&self) -> &GridGeometry {
@@ -30,14 +39,23 @@ impl SensingWorld {
     /// Floor height under a point (+∞ on an obstacle, `None` outside the grid).
     #[inline]
     pub fn height_at(&self, p: Point2) -> Option<f32> {
-        self.geometry.checked_index(self.geometry.world_to_cell(p)).map(|i| self.blocking_height_m[i])
+        self.geometry
+            .checked_index(self.geometry.world_to_cell(p))
+            .map(|i| self.blocking_height_m[i])
     }
 
     /// Distance (m) along a horizontal beam at height `z_m` from `origin` in direction
     /// (`cos`, `sin`) to the first cell that blocks it, or `None` if nothing does within
     /// `max_range_m`. A beam that leaves the grid returns `None`.
     #[inline]
-    pub fn cast_horizontal(&self, origin: Point2, cos: f64, sin: f64, z_m: f32, max_range_m: f64) -> Option<f64> {
+    pub fn cast_horizontal(
+        &self,
+        origin: Point2,
+        cos: f64,
+        sin: f64,
+        z_m: f32,
+        max_range_m: f64,
+    ) -> Option<f64> {
         let g = &self.geometry;
         let max_t = max_range_m / g.resolution_m;
         let (w, h) = (g.width, g.height);
@@ -58,7 +76,15 @@ impl SensingWorld {
     /// Distance (m, along the 3-D beam) from a sensor at (`origin`, `z0_m`) looking in horizontal
     /// direction (`cos`, `sin`) and pitched down by `pitch_down_rad` (negative: up) to the first
     /// surface it meets — a cell's side or its floor — or `None` within `max_range_m`.
-    pub fn cast_3d(&self, origin: Point2, z0_m: f64, cos: f64, sin: f64, pitch_down_rad: f64, max_range_m: f64) -> Option<f64> {
+    pub fn cast_3d(
+        &self,
+        origin: Point2,
+        z0_m: f64,
+        cos: f64,
+        sin: f64,
+        pitch_down_rad: f64,
+        max_range_m: f64,
+    ) -> Option<f64> {
         let g = &self.geometry;
         let (sp, cp) = pitch_down_rad.sin_cos();
         if cp <= 1e-9 {
@@ -106,35 +132,78 @@ mod tests {
             s.obstacle[Cell::new(80, row)] = obstacle::WALL;
         }
         // A 0.2 m step from column 50 on.
-        s.floor_height_m = Grid::from_vec(g, (0..g.len()).map(|i| if i % 100 >= 50 { 0.2 } else { 0.0 }).collect()).unwrap();
+        s.floor_height_m = Grid::from_vec(
+            g,
+            (0..g.len())
+                .map(|i| if i % 100 >= 50 { 0.2 } else { 0.0 })
+                .collect(),
+        )
+        .unwrap();
         s
     }
 
     #[test]
     fn horizontal_beam_stops_at_wall_or_higher_floor() {
         let w = SensingWorld::new(&corridor());
-        let d = w.cast_horizontal(Point2::new(1.05, 1.0), 1.0, 0.0, 0.3, 20.0).unwrap();
+        let d = w
+            .cast_horizontal(Point2::new(1.05, 1.0), 1.0, 0.0, 0.3, 20.0)
+            .unwrap();
         assert!((d - (8.0 - 1.05)).abs() < 1e-9, "{d}");
         // A beam at 0.1 m is stopped by the 0.2 m step at x = 5.0.
-        let d = w.cast_horizontal(Point2::new(1.05, 1.0), 1.0, 0.0, 0.1, 20.0).unwrap();
+        let d = w
+            .cast_horizontal(Point2::new(1.05, 1.0), 1.0, 0.0, 0.1, 20.0)
+            .unwrap();
         assert!((d - (5.0 - 1.05)).abs() < 1e-9, "{d}");
-        assert!(w.cast_horizontal(Point2::new(1.05, 1.0), -1.0, 0.0, 0.3, 0.5).is_none());
+        assert!(
+            w.cast_horizontal(Point2::new(1.05, 1.0), -1.0, 0.0, 0.3, 0.5)
+                .is_none()
+        );
     }
 
     #[test]
     fn tilted_beam_meets_the_floor_at_the_expected_range() {
         let w = SensingWorld::new(&corridor());
         // Sensor 0.5 m above a flat floor, pitched down 30°: meets the floor after 1.0 m.
-        let d = w.cast_3d(Point2::new(1.05, 1.0), 0.5, 1.0, 0.0, 30f64.to_radians(), 4.0).unwrap();
+        let d = w
+            .cast_3d(
+                Point2::new(1.05, 1.0),
+                0.5,
+                1.0,
+                0.0,
+                30f64.to_radians(),
+                4.0,
+            )
+            .unwrap();
         assert!((d - 1.0).abs() < 1e-9, "{d}");
         // 0.5 m before the wall at x = 8.0 the beam is still 0.21 m high: it hits the wall's face.
-        let d = w.cast_3d(Point2::new(7.5, 1.0), 0.5, 1.0, 0.0, 30f64.to_radians(), 4.0).unwrap();
+        let d = w
+            .cast_3d(
+                Point2::new(7.5, 1.0),
+                0.5,
+                1.0,
+                0.0,
+                30f64.to_radians(),
+                4.0,
+            )
+            .unwrap();
         assert!((d - 0.5 / 30f64.to_radians().cos()).abs() < 1e-9, "{d}");
         // Near the 0.2 m step the beam clears its edge (z = 0.211 m at x = 5.0) and meets its
         // top where z = 0.2 m, i.e. 0.3 / tan 30° ahead.
-        let d = w.cast_3d(Point2::new(4.5, 1.0), 0.5, 1.0, 0.0, 30f64.to_radians(), 4.0).unwrap();
+        let d = w
+            .cast_3d(
+                Point2::new(4.5, 1.0),
+                0.5,
+                1.0,
+                0.0,
+                30f64.to_radians(),
+                4.0,
+            )
+            .unwrap();
         let expected_horizontal = 0.3 / 30f64.to_radians().tan();
         // Heights are f32: 0.2 is stored as 0.200000003.
-        assert!((d * 30f64.to_radians().cos() - expected_horizontal).abs() < 1e-6, "{d}");
+        assert!(
+            (d * 30f64.to_radians().cos() - expected_horizontal).abs() < 1e-6,
+            "{d}"
+        );
     }
 }

@@ -59,7 +59,8 @@ pub struct HeatDetection {
 impl HeatDetection {
     /// World position of the region seen from `pose`.
     pub fn position(&self, pose: Pose2) -> Point2 {
-        pose.position().offset(pose.theta + self.bearing_rad, self.range_m)
+        pose.position()
+            .offset(pose.theta + self.bearing_rad, self.range_m)
     }
 }
 
@@ -75,18 +76,35 @@ pub fn read_thermal(
     rng: &mut impl Rng,
 ) -> Vec<HeatDetection> {
     let z = (floor_z_m + spec.mount_height_m) as f32;
-    let victims = scene.victims.iter().map(|v| (v.position, v.heat_c, v.exposed_size_m2(), HeatTruth::Victim(v.id)));
-    let others = scene.heat_sources.iter().map(|h| (h.position, h.heat_c, h.size_m2, HeatTruth::Other(h.id)));
+    let victims = scene.victims.iter().map(|v| {
+        (
+            v.position,
+            v.heat_c,
+            v.exposed_size_m2(),
+            HeatTruth::Victim(v.id),
+        )
+    });
+    let others = scene
+        .heat_sources
+        .iter()
+        .map(|h| (h.position, h.heat_c, h.size_m2, HeatTruth::Other(h.id)));
     let mut out = Vec::new();
     for (position, heat_c, size_m2, truth) in victims.chain(others) {
         let range = pose.position().distance(position);
-        let bearing = usar_world::normalize_angle(pose.position().bearing_to(position) - pose.theta);
+        let bearing =
+            usar_world::normalize_angle(pose.position().bearing_to(position) - pose.theta);
         if size_m2 <= 0.0 || range > spec.max_range_m || bearing.abs() > spec.hfov_rad / 2.0 {
             continue;
         }
         let world_angle = pose.theta + bearing;
         // The source's own cell may be raised (a victim lying on rubble): allow half a cell.
-        let clear = match world.cast_horizontal(pose.position(), world_angle.cos(), world_angle.sin(), z, range) {
+        let clear = match world.cast_horizontal(
+            pose.position(),
+            world_angle.cos(),
+            world_angle.sin(),
+            z,
+            range,
+        ) {
             None => true,
             Some(d) => d >= range - world.geometry().resolution_m,
         };

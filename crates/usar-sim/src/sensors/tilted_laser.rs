@@ -58,9 +58,19 @@ pub struct TiltedScan {
 /// Beam i has direction d = R_z(heading)·R_y(pitch)·(cos φᵢ, sin φᵢ, 0) in the tilted plane: its
 /// horizontal heading is heading + atan(tan φᵢ / cos p) and its pitch below the horizon is
 /// asin(sin p·cos φᵢ), with p = π/2 − θ.
-pub fn read_tilted_laser(spec: &TiltedLaserSpec, world: &SensingWorld, pose: Pose2, floor_z_m: f64, rng: &mut impl Rng) -> TiltedScan {
+pub fn read_tilted_laser(
+    spec: &TiltedLaserSpec,
+    world: &SensingWorld,
+    pose: Pose2,
+    floor_z_m: f64,
+    rng: &mut impl Rng,
+) -> TiltedScan {
     let n = spec.beams.max(1) as usize;
-    let inc = if n > 1 { spec.fov_rad / (n - 1) as f64 } else { 0.0 };
+    let inc = if n > 1 {
+        spec.fov_rad / (n - 1) as f64
+    } else {
+        0.0
+    };
     let yaw_min = -spec.fov_rad / 2.0;
     let p = std::f64::consts::FRAC_PI_2 - spec.tilt_from_vertical_rad;
     let (sp, cp) = p.sin_cos();
@@ -81,5 +91,10 @@ pub fn read_tilted_laser(spec: &TiltedLaserSpec, world: &SensingWorld, pose: Pos
             }
         })
         .collect();
-    TiltedScan { pose, yaw_min_rad: yaw_min, yaw_increment_rad: inc, ranges_m }
+    TiltedScan {
+        pose,
+        yaw_min_rad: yaw_min,
+        yaw_increment_rad: inc,
+        ranges_m,
+    }
 }

@@ -65,6 +65,9 @@ mod tests {
         let g = GridGeometry::new(10, 10, 0.1, Point2::new(0.0, 0.0));
         let cells: Vec<_> = cells_in_rect(&g, Rect::new(0.1, 0.1, 0.3, 0.2)).collect();
         assert_eq!(cells, vec![Cell::new(1, 1), Cell::new(2, 1)]);
-        assert_eq!(cells_in_rect(&g, Rect::new(-5.0, -5.0, 50.0, 50.0)).count(), 100);
+        assert_eq!(
+            cells_in_rect(&g, Rect::new(-5.0, -5.0, 50.0, 50.0)).count(),
+            100
+        );
     }
 }

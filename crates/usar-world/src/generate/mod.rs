@@ -10,7 +10,9 @@ mod course;
 pub mod draw;
 mod rubble;
 
-pub use self::building::{AreaRange, BuildingParams, LabelShares, LengthRange, generate_mall, generate_office};
+pub use self::building::{
+    AreaRange, BuildingParams, LabelShares, LengthRange, generate_mall, generate_office,
+};
 pub use self::course::{CourseParams, generate_course};
 pub use self::rubble::{ClassShares, RubbleParams, RubbleStyle, RubbleTerrain, generate_rubble};
 
@@ -26,7 +28,12 @@ pub enum SceneKind {
 }
 
 impl SceneKind {
-    pub const ALL: [SceneKind; 4] = [SceneKind::Rubble, SceneKind::Office, SceneKind::Mall, SceneKind::Course];
+    pub const ALL: [SceneKind; 4] = [
+        SceneKind::Rubble,
+        SceneKind::Office,
+        SceneKind::Mall,
+        SceneKind::Course,
+    ];
 
     pub fn as_str(self) -> &'static str {
         match self {
@@ -41,9 +48,12 @@ impl SceneKind {
 impl std::str::FromStr for SceneKind {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        SceneKind::ALL.into_iter().find(|k| k.as_str() == s).ok_or_else(|| {
-            format!("unknown scene kind {s:?}, expected one of: rubble, office, mall, course")
-        })
+        SceneKind::ALL
+            .into_iter()
+            .find(|k| k.as_str() == s)
+            .ok_or_else(|| {
+                format!("unknown scene kind {s:?}, expected one of: rubble, office, mall, course")
+            })
     }
 }
 

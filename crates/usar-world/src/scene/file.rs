@@ -95,11 +95,21 @@ pub fn scene_to_json(scene: &Scene) -> String {
             obstacle: encode_layer("u8", scene.obstacle.as_slice()),
             floor_height_m: encode_layer(
                 "f32le",
-                &scene.floor_height_m.as_slice().iter().flat_map(|h| h.to_le_bytes()).collect::<Vec<_>>(),
+                &scene
+                    .floor_height_m
+                    .as_slice()
+                    .iter()
+                    .flat_map(|h| h.to_le_bytes())
+                    .collect::<Vec<_>>(),
             ),
             room_id: encode_layer(
                 "u16le",
-                &scene.room_id.as_slice().iter().flat_map(|r| r.to_le_bytes()).collect::<Vec<_>>(),
+                &scene
+                    .room_id
+                    .as_slice()
+                    .iter()
+                    .flat_map(|r| r.to_le_bytes())
+                    .collect::<Vec<_>>(),
             ),
         },
         rooms: scene.rooms.clone(),
@@ -117,13 +127,31 @@ pub fn scene_to_json(scene: &Scene) -> String {
 /// Parses and validates scene JSON; `path` is only used in error messages.
 pub fn scene_from_json(text: &str, path: &Path) -> Result<Scene> {
     if text.trim().is_empty() {
-        return Err(WorldError::syntax(path, "line 1", "file is empty, expected a usar-scene JSON document"));
+        return Err(WorldError::syntax(
+            path,
+            "line 1",
+            "file is empty, expected a usar-scene JSON document",
+        ));
     }
     let header: Header = serde_json::from_str(text).map_err(|e| json_error(path, &e))?;
     match header.format.as_ref().and_then(|f| f.as_str()) {
         Some(SCENE_FORMAT) => {}
-        Some(other) => return Err(WorldError::invalid(path, "format", format!("{other:?}"), format!("{SCENE_FORMAT:?}"))),
-        None => return Err(WorldError::invalid(path, "format", "nothing", format!("{SCENE_FORMAT:?} (is this a usar scene file?)"))),
+        Some(other) => {
+            return Err(WorldError::invalid(
+                path,
+                "format",
+                format!("{other:?}"),
+                format!("{SCENE_FORMAT:?}"),
+            ));
+        }
+        None => {
+            return Err(WorldError::invalid(
+                path,
+                "format",
+                "nothing",
+                format!("{SCENE_FORMAT:?} (is this a usar scene file?)"),
+            ));
+        }
     }
     match header.version.as_ref().and_then(|v| v.as_u64()) {
         Some(v) if v == u64::from(SCENE_VERSION) => {}
@@ -141,7 +169,14 @@ pub fn scene_from_json(text: &str, path: &Path) -> Result<Scene> {
     super::validate::check_geometry(&g, path)?;
     let n = g.len();
     let obstacle = decode_layer(&file.layers.obstacle, "obstacle", "u8", 1, n, path)?;
-    let heights = decode_layer(&file.layers.floor_height_m, "floor_height_m", "f32le", 4, n, path)?;
+    let heights = decode_layer(
+        &file.layers.floor_height_m,
+        "floor_height_m",
+        "f32le",
+        4,
+        n,
+        path,
+    )?;
     let rooms = decode_layer(&file.layers.room_id, "room_id", "u16le", 2, n, path)?;
     let scene = Scene {
         name: file.name,
@@ -149,11 +184,20 @@ pub fn scene_from_json(text: &str, path: &Path) -> Result<Scene> {
         obstacle: Grid::from_vec(g, obstacle).expect("length checked"),
         floor_height_m: Grid::from_vec(
             g,
-            heights.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect(),
+            heights
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect(),
         )
         .expect("length checked"),
-        room_id: Grid::from_vec(g, rooms.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]])).collect())
-            .expect("length checked"),
+        room_id: Grid::from_vec(
+            g,
+            rooms
+                .chunks_exact(2)
+                .map(|b| u16::from_le_bytes([b[0], b[1]]))
+                .collect(),
+        )
+        .expect("length checked"),
         rooms: file.rooms,
         doors: file.doors,
         victims: file.victims,
@@ -169,8 +213,16 @@ pub fn scene_from_json(text: &str, path: &Path) -> Result<Scene> {
 fn json_error(path: &Path, e: &serde_json::Error) -> WorldError {
     let message = e.to_string();
     // serde_json appends " at line L column C"; keep the message without it.
-    let message = message.split(" at line ").next().unwrap_or(&message).to_string();
-    WorldError::syntax(path, format!("line {}, column {}", e.line(), e.column()), message)
+    let message = message
+        .split(" at line ")
+        .next()
+        .unwrap_or(&message)
+        .to_string();
+    WorldError::syntax(
+        path,
+        format!("line {}, column {}", e.line(), e.column()),
+        message,
+    )
 }
 
 fn encode_layer(dtype: &str, bytes: &[u8]) -> Layer {
@@ -194,20 +246,44 @@ fn decode_layer(
 ) -> Result<Vec<u8>> {
     let field = |f: &str| format!("layers.{name}.{f}");
     if layer.dtype != dtype {
-        return Err(WorldError::invalid(path, field("dtype"), format!("{:?}", layer.dtype), format!("{dtype:?}")));
+        return Err(WorldError::invalid(
+            path,
+            field("dtype"),
+            format!("{:?}", layer.dtype),
+            format!("{dtype:?}"),
+        ));
     }
     if layer.encoding != ENCODING {
-        return Err(WorldError::invalid(path, field("encoding"), format!("{:?}", layer.encoding), format!("{ENCODING:?}")));
+        return Err(WorldError::invalid(
+            path,
+            field("encoding"),
+            format!("{:?}", layer.encoding),
+            format!("{ENCODING:?}"),
+        ));
     }
     let compressed = base64::engine::general_purpose::STANDARD
         .decode(layer.data.trim())
-        .map_err(|e| WorldError::invalid(path, field("data"), format!("invalid base64 ({e})"), "base64 text"))?;
+        .map_err(|e| {
+            WorldError::invalid(
+                path,
+                field("data"),
+                format!("invalid base64 ({e})"),
+                "base64 text",
+            )
+        })?;
     let expected = cells * bytes_per_cell;
     let mut bytes = Vec::with_capacity(expected);
     ZlibDecoder::new(compressed.as_slice())
         .take(expected as u64 + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| WorldError::invalid(path, field("data"), format!("corrupt zlib stream ({e})"), "zlib-compressed data"))?;
+        .map_err(|e| {
+            WorldError::invalid(
+                path,
+                field("data"),
+                format!("corrupt zlib stream ({e})"),
+                "zlib-compressed data",
+            )
+        })?;
     if bytes.len() != expected {
         return Err(WorldError::invalid(
             path,

@@ -36,11 +36,25 @@ pub enum TerrainFeature {
     /// An open hall: free space wider than the laser's reach in at least one direction.
     Hall { region: Rect },
     /// A ramp of constant inclination; `uphill_rad` is the direction in which the floor rises.
-    Slope { region: Rect, inclination_rad: f64, uphill_rad: f64 },
+    Slope {
+        region: Rect,
+        inclination_rad: f64,
+        uphill_rad: f64,
+    },
     /// A flight of stairs; `uphill_rad` is the direction of the rising steps.
-    Stairs { region: Rect, step_height_m: f64, step_depth_m: f64, steps: u32, uphill_rad: f64 },
+    Stairs {
+        region: Rect,
+        step_height_m: f64,
+        step_depth_m: f64,
+        steps: u32,
+        uphill_rad: f64,
+    },
     /// A pile of rubble (paper 000), climbable or not by a tracked robot.
-    Rubble { region: Rect, peak_height_m: f64, climbable: bool },
+    Rubble {
+        region: Rect,
+        peak_height_m: f64,
+        climbable: bool,
+    },
     /// A hole in the floor.
     Drop { region: Rect, depth_m: f64 },
 }

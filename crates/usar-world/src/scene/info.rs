@@ -78,11 +78,23 @@ impl Scene {
         }
         let labelled: f64 = labels.values().map(|l| l.area_m2).sum();
         for l in labels.values_mut() {
-            l.share = if labelled > 0.0 { l.area_m2 / labelled } else { 0.0 };
+            l.share = if labelled > 0.0 {
+                l.area_m2 / labelled
+            } else {
+                0.0
+            };
         }
-        let free = self.obstacle.as_slice().iter().filter(|&&o| o == super::obstacle::NONE).count();
+        let free = self
+            .obstacle
+            .as_slice()
+            .iter()
+            .filter(|&&o| o == super::obstacle::NONE)
+            .count();
         let heights = self.floor_height_m.as_slice();
-        let GroundTruth { junctions, features } = self.ground_truth.clone();
+        let GroundTruth {
+            junctions,
+            features,
+        } = self.ground_truth.clone();
         let (width_m, height_m) = g.extent_m();
         SceneInfo {
             name: self.name.clone(),

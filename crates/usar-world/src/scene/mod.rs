@@ -7,7 +7,9 @@ mod semantic;
 mod validate;
 mod victim;
 
-pub use self::file::{SCENE_FORMAT, SCENE_VERSION, read_scene, scene_from_json, scene_to_json, write_scene};
+pub use self::file::{
+    SCENE_FORMAT, SCENE_VERSION, read_scene, scene_from_json, scene_to_json, write_scene,
+};
 pub use self::ground_truth::{GroundTruth, Junction, JunctionKind, TerrainFeature};
 pub use self::info::{RoomInfo, SceneInfo};
 pub use self::semantic::{Door, Room, RoomId, RoomLabel, RoomSizeThresholds};
@@ -126,7 +128,9 @@ impl Scene {
 
     /// Reachable area from the first start pose, m² (0 when the scene has no start pose).
     pub fn reachable_area_m2(&self) -> f64 {
-        let Some(start) = self.start_poses.first() else { return 0.0 };
+        let Some(start) = self.start_poses.first() else {
+            return 0.0;
+        };
         let g = self.geometry();
         let mask = self.reachable_mask(g.world_to_cell(start.position()));
         mask.as_slice().iter().filter(|&&m| m).count() as f64 * g.cell_area_m2()

@@ -15,8 +15,12 @@ pub enum RoomLabel {
 }
 
 impl RoomLabel {
-    pub const ALL: [RoomLabel; 4] =
-        [RoomLabel::Corridor, RoomLabel::SmallRoom, RoomLabel::MediumRoom, RoomLabel::BigRoom];
+    pub const ALL: [RoomLabel; 4] = [
+        RoomLabel::Corridor,
+        RoomLabel::SmallRoom,
+        RoomLabel::MediumRoom,
+        RoomLabel::BigRoom,
+    ];
 
     pub fn as_str(self) -> &'static str {
         match self {
@@ -58,7 +62,10 @@ pub struct RoomSizeThresholds {
 
 impl Default for RoomSizeThresholds {
     fn default() -> Self {
-        Self { small_below_m2: 30.0, medium_below_m2: 100.0 }
+        Self {
+            small_below_m2: 30.0,
+            medium_below_m2: 100.0,
+        }
     }
 }
 

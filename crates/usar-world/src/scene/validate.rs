@@ -14,11 +14,21 @@ pub const MAX_GRID_CELLS: u64 = 1 << 30;
 
 pub(crate) fn check_geometry(g: &GridGeometry, path: &Path) -> Result<()> {
     if !(g.resolution_m.is_finite() && g.resolution_m > 0.0) {
-        return Err(WorldError::invalid(path, "grid.resolution_m", g.resolution_m, "a positive number of metres"));
+        return Err(WorldError::invalid(
+            path,
+            "grid.resolution_m",
+            g.resolution_m,
+            "a positive number of metres",
+        ));
     }
     for (field, v) in [("grid.width", g.width), ("grid.height", g.height)] {
         if v == 0 || v > MAX_GRID_SIDE {
-            return Err(WorldError::invalid(path, field, v, format!("1..={MAX_GRID_SIDE} cells")));
+            return Err(WorldError::invalid(
+                path,
+                field,
+                v,
+                format!("1..={MAX_GRID_SIDE} cells"),
+            ));
         }
     }
     if u64::from(g.width) * u64::from(g.height) > MAX_GRID_CELLS {
@@ -30,7 +40,12 @@ pub(crate) fn check_geometry(g: &GridGeometry, path: &Path) -> Result<()> {
         ));
     }
     if !(g.origin.x.is_finite() && g.origin.y.is_finite()) {
-        return Err(WorldError::invalid(path, "grid.origin", format!("{:?}", g.origin), "finite coordinates"));
+        return Err(WorldError::invalid(
+            path,
+            "grid.origin",
+            format!("{:?}", g.origin),
+            "finite coordinates",
+        ));
     }
     Ok(())
 }
@@ -72,7 +87,12 @@ fn check_positive(v: f64, field: &str, path: &Path) -> Result<()> {
 /// Validates everything but the geometry (checked before the layers are decoded).
 pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
     let g = scene.geometry();
-    if let Some(i) = scene.obstacle.as_slice().iter().position(|&o| o > obstacle::FURNITURE) {
+    if let Some(i) = scene
+        .obstacle
+        .as_slice()
+        .iter()
+        .position(|&o| o > obstacle::FURNITURE)
+    {
         let c = g.cell_of_index(i);
         return Err(WorldError::invalid(
             path,
@@ -81,7 +101,12 @@ pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
             "0 (none), 1 (wall) or 2 (furniture)",
         ));
     }
-    if let Some(i) = scene.floor_height_m.as_slice().iter().position(|h| !h.is_finite()) {
+    if let Some(i) = scene
+        .floor_height_m
+        .as_slice()
+        .iter()
+        .position(|h| !h.is_finite())
+    {
         let c = g.cell_of_index(i);
         return Err(WorldError::invalid(
             path,
@@ -93,10 +118,20 @@ pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
     let mut room_ids = BTreeSet::new();
     for (i, room) in scene.rooms.iter().enumerate() {
         if room.id == 0 || !room_ids.insert(room.id) {
-            return Err(WorldError::invalid(path, format!("rooms[{i}].id"), room.id, "a unique id ≥ 1"));
+            return Err(WorldError::invalid(
+                path,
+                format!("rooms[{i}].id"),
+                room.id,
+                "a unique id ≥ 1",
+            ));
         }
     }
-    if let Some(i) = scene.room_id.as_slice().iter().position(|&r| r != 0 && !room_ids.contains(&r)) {
+    if let Some(i) = scene
+        .room_id
+        .as_slice()
+        .iter()
+        .position(|&r| r != 0 && !room_ids.contains(&r))
+    {
         let c = g.cell_of_index(i);
         return Err(WorldError::invalid(
             path,
@@ -108,44 +143,91 @@ pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
     let mut door_ids = BTreeSet::new();
     for (i, door) in scene.doors.iter().enumerate() {
         if !door_ids.insert(door.id) {
-            return Err(WorldError::invalid(path, format!("doors[{i}].id"), door.id, "a unique id"));
+            return Err(WorldError::invalid(
+                path,
+                format!("doors[{i}].id"),
+                door.id,
+                "a unique id",
+            ));
         }
         check_point(door.position, g, &format!("doors[{i}].position"), path)?;
         check_positive(door.width_m, &format!("doors[{i}].width_m"), path)?;
         for r in door.rooms {
             if r != 0 && !room_ids.contains(&r) {
-                return Err(WorldError::invalid(path, format!("doors[{i}].rooms"), r, "0 or the id of a listed room"));
+                return Err(WorldError::invalid(
+                    path,
+                    format!("doors[{i}].rooms"),
+                    r,
+                    "0 or the id of a listed room",
+                ));
             }
         }
     }
     for (i, room) in scene.rooms.iter().enumerate() {
         if let Some(d) = room.door_ids.iter().find(|d| !door_ids.contains(d)) {
-            return Err(WorldError::invalid(path, format!("rooms[{i}].door_ids"), d, "ids of listed doors"));
+            return Err(WorldError::invalid(
+                path,
+                format!("rooms[{i}].door_ids"),
+                d,
+                "ids of listed doors",
+            ));
         }
-        if let Some(c) = room.intersecting_corridors.iter().find(|c| !room_ids.contains(c)) {
-            return Err(WorldError::invalid(path, format!("rooms[{i}].intersecting_corridors"), c, "ids of listed rooms"));
+        if let Some(c) = room
+            .intersecting_corridors
+            .iter()
+            .find(|c| !room_ids.contains(c))
+        {
+            return Err(WorldError::invalid(
+                path,
+                format!("rooms[{i}].intersecting_corridors"),
+                c,
+                "ids of listed rooms",
+            ));
         }
     }
     for (i, v) in scene.victims.iter().enumerate() {
         check_point(v.position, g, &format!("victims[{i}].position"), path)?;
-        check_positive(v.visible_size_m2, &format!("victims[{i}].visible_size_m2"), path)?;
-        check_fraction(v.buried_fraction, &format!("victims[{i}].buried_fraction"), path)?;
+        check_positive(
+            v.visible_size_m2,
+            &format!("victims[{i}].visible_size_m2"),
+            path,
+        )?;
+        check_fraction(
+            v.buried_fraction,
+            &format!("victims[{i}].buried_fraction"),
+            path,
+        )?;
         if !v.heat_c.is_finite() {
-            return Err(WorldError::invalid(path, format!("victims[{i}].heat_c"), v.heat_c, "a temperature in °C"));
+            return Err(WorldError::invalid(
+                path,
+                format!("victims[{i}].heat_c"),
+                v.heat_c,
+                "a temperature in °C",
+            ));
         }
     }
     for (i, h) in scene.heat_sources.iter().enumerate() {
         check_point(h.position, g, &format!("heat_sources[{i}].position"), path)?;
         check_positive(h.size_m2, &format!("heat_sources[{i}].size_m2"), path)?;
         if !h.heat_c.is_finite() {
-            return Err(WorldError::invalid(path, format!("heat_sources[{i}].heat_c"), h.heat_c, "a temperature in °C"));
+            return Err(WorldError::invalid(
+                path,
+                format!("heat_sources[{i}].heat_c"),
+                h.heat_c,
+                "a temperature in °C",
+            ));
         }
     }
     for (i, p) in scene.start_poses.iter().enumerate() {
         let field = format!("start_poses[{i}]");
         check_point(p.position(), g, &field, path)?;
         if !p.theta.is_finite() {
-            return Err(WorldError::invalid(path, format!("{field}.theta"), p.theta, "a finite angle in radians"));
+            return Err(WorldError::invalid(
+                path,
+                format!("{field}.theta"),
+                p.theta,
+                "a finite angle in radians",
+            ));
         }
         if scene.is_obstacle(g.world_to_cell(p.position())) {
             return Err(WorldError::invalid(
@@ -159,7 +241,12 @@ pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
     if let Some(c) = scene.coarse_cell_m {
         check_positive(c, "coarse_cell_m", path)?;
         if c < g.resolution_m {
-            return Err(WorldError::invalid(path, "coarse_cell_m", c, format!("at least grid.resolution_m ({})", g.resolution_m)));
+            return Err(WorldError::invalid(
+                path,
+                "coarse_cell_m",
+                c,
+                format!("at least grid.resolution_m ({})", g.resolution_m),
+            ));
         }
     }
     Ok(())
