@@ -319,19 +319,6 @@ impl TeamMission {
                         row[k] = Some(cost * COMMITMENT_FACTOR);
                     }
                 }
-                if std::env::var("USAR_DEBUG").is_ok() {
-                    let agent = &self.agents[i];
-                    eprintln!(
-                        "  robot {i} at {:.2},{:.2} sources {:?} reachable {} field reached {} class {:?} blacklist {}",
-                        pose.x,
-                        pose.y,
-                        sources,
-                        row.iter().filter(|c| c.is_some()).count(),
-                        agent.field.reached_count(),
-                        self.base.merged.class(g.world_to_cell(pose.position())),
-                        agent.blacklist.len()
-                    );
-                }
                 if row.iter().any(Option::is_some) {
                     break;
                 }
@@ -340,19 +327,6 @@ impl TeamMission {
         }
         let chosen = assign_nearest(&costs);
         let mut any = false;
-        if std::env::var("USAR_DEBUG").is_ok() {
-            eprintln!(
-                "t={:.1} who={:?} cands={} chosen={:?} costs={:?}",
-                now,
-                who,
-                cands.len(),
-                chosen,
-                costs
-                    .iter()
-                    .map(|r| r.iter().filter(|c| c.is_some()).count())
-                    .collect::<Vec<_>>()
-            );
-        }
         for (k, &i) in who.iter().enumerate() {
             let agent = &mut self.agents[i];
             match chosen[k] {

@@ -90,7 +90,7 @@ impl SensingWorld {
         if cp <= 1e-9 {
             // Straight down (or up): the floor under the sensor, if it is below.
             let h = f64::from(self.height_at(origin)?);
-            return (sp > 0.0 && z0_m - h <= max_range_m && h.is_finite()).then(|| z0_m - h);
+            return (sp > 0.0 && z0_m - h <= max_range_m && h.is_finite()).then_some(z0_m - h);
         }
         let tan_p = sp / cp;
         let max_s = max_range_m * cp;
