@@ -196,8 +196,7 @@ impl OccupancyGrid {
                 scan.max_range_m
             } * inv_res;
             let mut ray = GridRay::new(&g, origin, dc, ds);
-            loop {
-                let Some(i) = ray.index_in(w, h) else { break };
+            while let Some(i) = ray.index_in(w, h) {
                 let end_here = ray.t_exit() >= reach_t;
                 if end_here && hit {
                     self.hits.push(i as u32);

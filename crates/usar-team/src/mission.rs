@@ -172,7 +172,7 @@ impl TeamMission {
 
     fn every(&self, period_s: f64, step: u64) -> bool {
         let n = (period_s / self.config.sim.dt_s).round().max(1.0) as u64;
-        step % n == 0
+        step.is_multiple_of(n)
     }
 
     fn scan_all(&mut self) {
