@@ -79,7 +79,7 @@ pub struct SceneGenArgs {
 pub struct ImageArgs {
     /// Metres per pixel of a bare PGM/PNG map (required for bare images; ROS YAML files carry
     /// their own).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub resolution: Option<f64>,
     /// Dark pixels are free instead of occupied (ROS `negate: 1`).
     #[arg(long)]
@@ -179,10 +179,10 @@ pub struct PlanArgs {
     #[command(flatten)]
     pub image: ImageArgs,
     /// Start point "x,y" in metres.
-    #[arg(long, value_parser = parse_point)]
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub from: Option<(f64, f64)>,
     /// Goal point "x,y" in metres.
-    #[arg(long, value_parser = parse_point)]
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub to: Option<(f64, f64)>,
     /// Robot model whose size inflates the obstacles and whose climbing limits apply: crawler,
     /// wheeled, or a robot TOML file.

@@ -187,15 +187,41 @@ fn movingai_scenarios_match_their_optimal_lengths() {
 
 #[test]
 fn plan_without_a_route_exits_3_with_the_reason() {
-    // The wheeled robot cannot climb the course's stairs or slope to their tops.
-    let info = usar(&["scene", "info", "course", "--json"]);
-    let v: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
-    let start = &v["start_poses"][0];
-    let from = format!("{},{}", start["x"], start["y"]);
+    // Above the course's stairs: the crawler climbs them, the wheeled robot cannot.
+    let above_stairs = "30.5,13";
+    let plan = |robot: &str| {
+        usar(&[
+            "plan",
+            "--scene",
+            "course",
+            "--from",
+            "2,5",
+            "--to",
+            above_stairs,
+            "--robot",
+            robot,
+        ])
+    };
+    let crawler = plan("crawler");
+    assert_eq!(
+        crawler.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&crawler.stderr)
+    );
+    let wheeled = plan("wheeled");
+    let stderr = String::from_utf8_lossy(&wheeled.stderr);
+    assert_eq!(wheeled.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("no route for robot wheeled"), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+}
+
+#[test]
+fn plan_outside_the_scene_is_bad_input() {
     let out = usar(&[
-        "plan", "--scene", "course", "--from", &from, "--to", "-5,-5",
+        "plan", "--scene", "course", "--from", "2,5", "--to", "-5,-5",
     ]);
-    assert_bad_input(&out, "--to");
+    assert_bad_input(&out, "--to -5,-5 lies outside the scene");
 }
 
 #[test]

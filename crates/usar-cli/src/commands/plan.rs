@@ -55,12 +55,13 @@ pub fn run(args: PlanArgs) -> CmdResult {
     for (name, cell, p) in [("--from", start, from), ("--to", goal, to)] {
         if !g.contains(cell) {
             return Err(bad_input(anyhow::anyhow!(
-                "{name} {},{} lies outside the scene ({} × {} m from {:?})",
+                "{name} {},{} lies outside the scene ({} × {} m from ({}, {}))",
                 p.0,
                 p.1,
                 g.extent_m().0,
                 g.extent_m().1,
-                g.origin
+                g.origin.x,
+                g.origin.y
             )));
         }
     }
