@@ -135,7 +135,32 @@ fn wrong_optimal_lengths_are_reported_as_mismatches() {
     // The goal of the third is the pillar: no path.
     assert_eq!(report.mismatches[1].index, 2);
     assert_eq!(report.mismatches[1].found, None);
-    assert_eq!(report.max_abs_error, 0.5);
+    // 3.5 printed with one decimal stands for [3.45, 3.55): 4 lies 0.45 beyond it.
+    assert!((report.max_abs_error - 0.45).abs() < 1e-12);
+    assert_eq!(report.max_raw_error, 0.5);
+}
+
+#[test]
+fn lengths_are_compared_at_the_printed_precision() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(
+        dir.join("line.map"),
+        "type octile\nheight 1\nwidth 5\nmap\n.....\n",
+    )
+    .unwrap();
+    // The path is exactly 4. "4.004" (three decimals) stands for [4.0035, 4.0045): 3.5e-3 off,
+    // a mismatch; "4.00" and "4" are exact, and "3.9996" is within the 1e-3 tolerance.
+    std::fs::write(
+        dir.join("line.scen"),
+        "version 1\n0\tline.map\t5\t1\t0\t0\t4\t0\t4.004\n0\tline.map\t5\t1\t0\t0\t4\t0\t4.00\n\
+         0\tline.map\t5\t1\t0\t0\t4\t0\t4\n0\tline.map\t5\t1\t0\t0\t4\t0\t3.9996\n",
+    )
+    .unwrap();
+    let report = check_scenarios(&dir.join("line.scen")).unwrap();
+    assert_eq!((report.scenarios, report.matched), (4, 3));
+    assert_eq!(report.mismatches[0].index, 0);
+    assert!((report.max_abs_error - 3.5e-3).abs() < 1e-9);
 }
 
 #[test]

@@ -171,6 +171,9 @@ pub struct Scenario {
     pub goal: (u32, u32),
     /// Optimal octile length without corner cutting, in cells (printed to ~6 significant digits).
     pub optimal_length: f64,
+    /// Digits printed after the decimal point of `optimal_length` (`3894.56` → 2): the
+    /// precision a planned length can be compared at.
+    pub optimal_length_decimals: u32,
     /// Line of the file the scenario was read from (1-based), for error messages.
     pub line: usize,
 }
@@ -447,6 +450,9 @@ pub fn parse_scenarios(text: &str, path: &Path) -> Result<Vec<Scenario>> {
             start,
             goal,
             optimal_length,
+            optimal_length_decimals: fields[8]
+                .split_once('.')
+                .map_or(0, |(_, fraction)| fraction.len() as u32),
             line: n,
         });
     }
