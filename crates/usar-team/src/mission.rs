@@ -31,11 +31,19 @@ const TIGHT_MARGIN_M: f64 = 0.05;
 /// The mission counts as explored once no robot has had a reachable candidate for this long
 /// (a doorway closed for a moment by a noisy return must not end it).
 const EXPLORED_AFTER_S: f64 = 10.0;
-/// Recovery after a collision (what a bumper-equipped base does): back up for this long, and if
-/// that is blocked too, turn in place; then plan again.
+/// Recovery after a collision (what a bumper-equipped base does): it tries these manoeuvres in
+/// turn, each for [`RECOVERY_S`], moving on to the next as soon as one bumps too; then it plans
+/// again. Backing up comes first; turning either way and creeping forward free a robot wedged
+/// with a corner behind it.
 const RECOVERY_S: f64 = 1.0;
-const RECOVERY_BACK_MPS: f64 = -0.15;
-const RECOVERY_TURN_RADPS: f64 = 0.8;
+const ESCAPES: [Velocity; 6] = [
+    Velocity { linear_mps: -0.15, angular_radps: 0.0 },
+    Velocity { linear_mps: 0.0, angular_radps: 0.8 },
+    Velocity { linear_mps: 0.0, angular_radps: -0.8 },
+    Velocity { linear_mps: -0.1, angular_radps: 0.6 },
+    Velocity { linear_mps: -0.1, angular_radps: -0.6 },
+    Velocity { linear_mps: 0.1, angular_radps: 0.0 },
+];
 /// A target that needed this many recoveries is given up (blacklisted) like a stuck one.
 const MAX_RECOVERIES: u32 = 3;
 /// When no candidate is reachable from where a robot stands (the map, refined since it drove
@@ -77,8 +85,8 @@ struct Agent {
     trajectory: Vec<Point2>,
     /// Path costs from the robot, reused between assignments.
     field: DistanceField,
-    /// A recovery manoeuvre in progress: the command and when it ends.
-    recovery: Option<(Velocity, f64)>,
+    /// A recovery in progress: the index into [`ESCAPES`] being tried and when it ends.
+    recovery: Option<(usize, f64)>,
     /// Recoveries since the current target was assigned.
     recoveries: u32,
     /// Retracing its own trajectory out of a pocket the map no longer connects.
@@ -397,17 +405,14 @@ impl TeamMission {
                 .map(|(i, a)| {
                     let r = self.sim.robot(a.id);
                     match a.recovery {
-                        Some((cmd, until)) if now < until => {
-                            if r.in_contact() && cmd.linear_mps != 0.0 {
-                                // Backing up is blocked too: turn instead.
-                                let turn = Velocity {
-                                    linear_mps: 0.0,
-                                    angular_radps: RECOVERY_TURN_RADPS,
-                                };
-                                a.recovery = Some((turn, now + RECOVERY_S));
-                                return turn;
+                        Some((escape, until)) if now < until => {
+                            if r.in_contact() {
+                                // This manoeuvre bumps too: try the next one.
+                                let next = (escape + 1) % ESCAPES.len();
+                                a.recovery = Some((next, now + RECOVERY_S));
+                                return ESCAPES[next];
                             }
-                            cmd
+                            ESCAPES[escape]
                         }
                         Some(_) => {
                             a.recovery = None;
@@ -422,12 +427,8 @@ impl TeamMission {
                             Velocity::default()
                         }
                         None if r.in_contact() => {
-                            let back = Velocity {
-                                linear_mps: RECOVERY_BACK_MPS,
-                                angular_radps: 0.0,
-                            };
-                            a.recovery = Some((back, now + RECOVERY_S));
-                            back
+                            a.recovery = Some((0, now + RECOVERY_S));
+                            ESCAPES[0]
                         }
                         None => {
                             let mut cmd = a.follower.command(r.pose, &r.spec);
