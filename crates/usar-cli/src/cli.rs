@@ -232,6 +232,9 @@ pub struct ExploreArgs {
     /// Stop once this fraction of the reachable area is known.
     #[arg(long)]
     pub stop_at_coverage: Option<f64>,
+    /// Stop once coverage grew by less than 0.2 % in this many minutes (0: never).
+    #[arg(long, default_value_t = 3.0)]
+    pub stall_minutes: f64,
     /// Write a report folder (map, coverage CSV and plot, summary.json) here.
     #[arg(long)]
     pub out: Option<PathBuf>,

@@ -41,6 +41,12 @@ pub struct TeamConfig {
     /// Stop when this fraction of the reachable area is known (None: explore until the time
     /// limit or until no frontier is left).
     pub stop_at_coverage: Option<f64>,
+    /// Stop when coverage grew by less than `stall_growth` during this long (None: never).
+    /// Frontiers behind gaps narrower than the robot, or seen through glass-like noise, can
+    /// stay forever; this ends the mission instead of running out the clock.
+    pub stall_after_s: Option<f64>,
+    /// See `stall_after_s`; a fraction of the reachable area.
+    pub stall_growth: f64,
     /// Frontier clusters smaller than this many cells are ignored (sensor noise leaves specks).
     pub min_cluster_cells: usize,
     pub timing: Timing,
@@ -54,6 +60,8 @@ impl Default for TeamConfig {
             robot: RobotSpec::wheeled(),
             duration_s: 20.0 * 60.0,
             stop_at_coverage: None,
+            stall_after_s: Some(180.0),
+            stall_growth: 0.002,
             min_cluster_cells: 3,
             timing: Timing::default(),
             sim: SimConfig::default(),

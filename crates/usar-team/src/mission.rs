@@ -37,12 +37,30 @@ const EXPLORED_AFTER_S: f64 = 10.0;
 /// with a corner behind it.
 const RECOVERY_S: f64 = 1.0;
 const ESCAPES: [Velocity; 6] = [
-    Velocity { linear_mps: -0.15, angular_radps: 0.0 },
-    Velocity { linear_mps: 0.0, angular_radps: 0.8 },
-    Velocity { linear_mps: 0.0, angular_radps: -0.8 },
-    Velocity { linear_mps: -0.1, angular_radps: 0.6 },
-    Velocity { linear_mps: -0.1, angular_radps: -0.6 },
-    Velocity { linear_mps: 0.1, angular_radps: 0.0 },
+    Velocity {
+        linear_mps: -0.15,
+        angular_radps: 0.0,
+    },
+    Velocity {
+        linear_mps: 0.0,
+        angular_radps: 0.8,
+    },
+    Velocity {
+        linear_mps: 0.0,
+        angular_radps: -0.8,
+    },
+    Velocity {
+        linear_mps: -0.1,
+        angular_radps: 0.6,
+    },
+    Velocity {
+        linear_mps: -0.1,
+        angular_radps: -0.6,
+    },
+    Velocity {
+        linear_mps: 0.1,
+        angular_radps: 0.0,
+    },
 ];
 /// A target that needed this many recoveries is given up (blacklisted) like a stuck one.
 const MAX_RECOVERIES: u32 = 3;
@@ -91,6 +109,9 @@ struct Agent {
     recoveries: u32,
     /// Retracing its own trajectory out of a pocket the map no longer connects.
     escaping: bool,
+    /// Whether it may retrace when no candidate is reachable: once after each target, so that
+    /// a robot with nothing left to do goes idle instead of pacing back and forth.
+    may_retrace: bool,
 }
 
 pub struct TeamMission {
@@ -100,6 +121,9 @@ pub struct TeamMission {
     base: BaseStation,
     victims_seen: Vec<VictimSighting>,
     samples: Vec<Sample>,
+    /// Planning grids from the merged map (full radius, tight radius), built on first use after
+    /// each merge.
+    nav_grids: Option<[NavGrid; 2]>,
 }
 
 impl TeamMission {
@@ -147,6 +171,7 @@ impl TeamMission {
                 recovery: None,
                 recoveries: 0,
                 escaping: false,
+                may_retrace: true,
             });
         }
         let start = scene.start_poses[0].position();
@@ -167,6 +192,7 @@ impl TeamMission {
             base,
             victims_seen: Vec::new(),
             samples: Vec::new(),
+            nav_grids: None,
         })
     }
 
@@ -197,6 +223,7 @@ impl TeamMission {
         let mut maps: Vec<&mut OccupancyGrid> =
             self.agents.iter_mut().map(|a| &mut a.map).collect();
         self.base.merge(&mut maps);
+        self.nav_grids = None;
     }
 
     fn read_thermal(&mut self) {
@@ -270,8 +297,10 @@ impl TeamMission {
         };
         let cands: Vec<Candidate> =
             candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
-        let mut grids = [&self.base.navigable, &self.base.navigable_tight]
-            .map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
+        let mut grids = self.nav_grids.take().unwrap_or_else(|| {
+            [&self.base.navigable, &self.base.navigable_tight]
+                .map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))))
+        });
         let now = self.sim.time_s();
         // Targets of robots that keep theirs are taken (one robot per candidate).
         let keep: Vec<Cell> = (0..self.agents.len())
@@ -333,6 +362,7 @@ impl TeamMission {
             }
             costs.push(row);
         }
+        self.nav_grids = Some(grids);
         let chosen = assign_nearest(&costs);
         let mut any = false;
         for (k, &i) in who.iter().enumerate() {
@@ -354,19 +384,40 @@ impl TeamMission {
                     agent.follower = PathFollower::new(waypoints);
                     agent.target = Some(target);
                     agent.recoveries = 0;
+                    agent.escaping = false;
+                    agent.may_retrace = true;
                 }
                 None => {
                     agent.target = None;
-                    agent.follower = PathFollower::new(retrace(
-                        &agent.trajectory,
-                        self.sim.robot(agent.id).pose.position(),
-                    ));
+                    agent.follower = PathFollower::default();
+                    if std::mem::take(&mut agent.may_retrace) {
+                        agent.follower = PathFollower::new(retrace(
+                            &agent.trajectory,
+                            self.sim.robot(agent.id).pose.position(),
+                        ));
+                    }
                     agent.escaping = !agent.follower.is_empty();
                 }
             }
             agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
         }
         any
+    }
+
+    /// Whether coverage grew by less than [`TeamConfig::stall_growth`] over the last
+    /// [`TeamConfig::stall_after_s`] (frontiers may be left, but none the robots can resolve).
+    fn stalled(&self) -> bool {
+        let Some(window) = self.config.stall_after_s else {
+            return false;
+        };
+        let Some(last) = self.samples.last() else {
+            return false;
+        };
+        self.samples
+            .iter()
+            .rev()
+            .find(|s| s.time_s <= last.time_s - window + 1e-6)
+            .is_some_and(|before| last.coverage - before.coverage < self.config.stall_growth)
     }
 
     fn sample(&mut self) {
@@ -518,6 +569,9 @@ impl TeamMission {
             if self.every(self.config.timing.sample_period_s, step) {
                 self.sample();
                 on_progress(now);
+                if self.stalled() {
+                    finish = Finish::Stalled;
+                }
             }
             if let Some(target) = self.config.stop_at_coverage
                 && merged_now
@@ -591,6 +645,9 @@ fn retrace(trajectory: &[Point2], here: Point2) -> Vec<Point2> {
         if length >= RETRACE_M {
             break;
         }
+    }
+    if last.distance(here) < 1.0 {
+        out.clear();
     }
     out
 }

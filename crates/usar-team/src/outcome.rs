@@ -12,6 +12,8 @@ pub enum Finish {
     Explored,
     /// The configured coverage was reached.
     CoverageTarget,
+    /// Coverage stopped growing (frontiers were left that no robot could resolve).
+    Stalled,
     /// The simulated time ran out.
     TimeLimit,
 }

@@ -37,12 +37,19 @@ pub fn run(args: ExploreArgs) -> CmdResult {
             "--stop-at-coverage: found {c}, expected a fraction in [0, 1]"
         )));
     }
+    if !(args.stall_minutes.is_finite() && args.stall_minutes >= 0.0) {
+        return Err(bad_input(anyhow::anyhow!(
+            "--stall-minutes: found {}, expected a number of minutes ≥ 0",
+            args.stall_minutes
+        )));
+    }
     let scene = Arc::new(scene_source::load(&args.scene, args.seed, &args.image)?);
     let config = TeamConfig {
         robots: args.robots,
         robot: scene_source::load_robot(&args.robot)?,
         duration_s: args.minutes * 60.0,
         stop_at_coverage: args.stop_at_coverage,
+        stall_after_s: (args.stall_minutes > 0.0).then_some(args.stall_minutes * 60.0),
         ..TeamConfig::default()
     };
     let outcome = run_mission(scene.clone(), config, args.seed, args.json)?;
