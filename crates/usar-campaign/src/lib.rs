@@ -1,0 +1,2 @@
+//! `usar-campaign`: the experiment engine.
+pub mod stats;
