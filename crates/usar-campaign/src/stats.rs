@@ -124,8 +124,8 @@ pub fn welch_t_test(a: &[f64], b: &[f64], tails: Tails) -> Result<TestResult, St
         return Err(StatsError::ZeroVariance { test });
     }
     let t = (mean(a) - mean(b)) / (va + vb).sqrt();
-    let df = (va + vb).powi(2)
-        / (va.powi(2) / (a.len() - 1) as f64 + vb.powi(2) / (b.len() - 1) as f64);
+    let df =
+        (va + vb).powi(2) / (va.powi(2) / (a.len() - 1) as f64 + vb.powi(2) / (b.len() - 1) as f64);
     Ok(TestResult {
         statistic: t,
         df: vec![df],
@@ -250,10 +250,16 @@ pub fn shapiro_wilk(xs: &[f64]) -> Result<TestResult, StatsError> {
         let ssq: f64 = m.iter().map(|v| v * v).sum();
         let u = 1.0 / nf.sqrt();
         let an = m[n - 1] / ssq.sqrt()
-            + poly(&[0.0, 0.221157, -0.147981, -2.071190, 4.434685, -2.706056], u);
+            + poly(
+                &[0.0, 0.221157, -0.147981, -2.071190, 4.434685, -2.706056],
+                u,
+            );
         if n > 5 {
             let an1 = m[n - 2] / ssq.sqrt()
-                + poly(&[0.0, 0.042981, -0.293762, -1.752461, 5.682633, -3.582633], u);
+                + poly(
+                    &[0.0, 0.042981, -0.293762, -1.752461, 5.682633, -3.582633],
+                    u,
+                );
             let phi = (ssq - 2.0 * m[n - 1].powi(2) - 2.0 * m[n - 2].powi(2))
                 / (1.0 - 2.0 * an.powi(2) - 2.0 * an1.powi(2));
             for i in 2..n - 2 {
