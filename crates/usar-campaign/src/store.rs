@@ -93,7 +93,7 @@ impl Store {
     pub fn open_or_create(dir: &Path, design: &Design) -> Result<Self> {
         let path = Self::path_in(dir);
         if path.exists() {
-            let store = Self::open_existing(&path, false)?;
+            let store = Self::open(&path)?;
             let found = store.meta("design_hash")?;
             if found != design.hash {
                 let name = store.campaign_name().unwrap_or_else(|_| "?".into());
@@ -139,24 +139,22 @@ impl Store {
         std::fs::rename(&tmp, path).map_err(|e| {
             CampaignError::Input(format!("{}: cannot move into place: {e}", path.display()))
         })?;
-        Self::open_existing(path, false)
+        Self::open(path)
     }
 
-    /// Opens an existing database, read-only or not, after checking it is ours.
-    pub fn open_existing(path: &Path, read_only: bool) -> Result<Self> {
+    /// Opens an existing database after checking it is ours. Opening rolls back a transaction
+    /// a killed process left half-written (SQLite's hot journal), so a crashed campaign can be
+    /// reported, merged or resumed at once; nothing else is written.
+    pub fn open(path: &Path) -> Result<Self> {
         if !path.is_file() {
             return Err(CampaignError::Input(format!(
                 "{}: no such result database, expected the output folder of `usar campaign run`",
                 path.display()
             )));
         }
-        let flags = if read_only {
-            OpenFlags::SQLITE_OPEN_READ_ONLY
-        } else {
-            OpenFlags::SQLITE_OPEN_READ_WRITE
-        };
-        let conn = Connection::open_with_flags(path, flags | OpenFlags::SQLITE_OPEN_NO_MUTEX)
-            .map_err(|e| foreign(path, &e.to_string()))?;
+        let flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        let conn =
+            Connection::open_with_flags(path, flags).map_err(|e| foreign(path, &e.to_string()))?;
         let store = Store {
             conn,
             path: path.to_path_buf(),
@@ -186,9 +184,7 @@ impl Store {
         if check != "ok" {
             return Err(foreign(path, &format!("integrity check: {check}")));
         }
-        if !read_only {
-            store.pragmas()?;
-        }
+        store.pragmas()?;
         Ok(store)
     }
 
@@ -427,7 +423,7 @@ pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> Result<(usize, u64)> {
     }
     let stores: Vec<Store> = inputs
         .iter()
-        .map(|d| Store::open_existing(&Store::path_in(d), true))
+        .map(|d| Store::open(&Store::path_in(d)))
         .collect::<Result<_>>()?;
     let hash = stores[0].meta("design_hash")?;
     let campaign = stores[0].meta("campaign")?;

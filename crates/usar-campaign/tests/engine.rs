@@ -29,7 +29,7 @@ fn run(dir: &Path, shard: Shard, jobs: usize) -> usar_campaign::RunReport {
 }
 
 fn digest(dir: &Path) -> String {
-    Store::open_existing(&Store::path_in(dir), true)
+    Store::open(&Store::path_in(dir))
         .unwrap()
         .results_digest()
         .unwrap()

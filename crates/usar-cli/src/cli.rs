@@ -33,6 +33,94 @@ pub enum Command {
     Demo(DemoArgs),
     /// Measure the speed of the hot loops (laser scans, A*, distance fields, frontiers).
     Bench(BenchArgs),
+    /// Experiments: run campaigns (resumable, parallel, shardable), merge shards, report
+    /// statistics and plots, export CSV.
+    #[command(subcommand)]
+    Campaign(CampaignCommand),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum CampaignCommand {
+    /// Run a campaign file or a built-in preset into a result folder. Runs already in the
+    /// folder's database are not redone: run the same command again to resume.
+    Run(CampaignRunArgs),
+    /// Combine the result folders of shards of one campaign into a new folder.
+    Merge(CampaignMergeArgs),
+    /// Tables (mean (sd)), the comparisons the campaign asks for, and plots.
+    Report(CampaignReportArgs),
+    /// One CSV row per run: factors and final metrics (columns: docs/campaign-format.md).
+    Export(CampaignExportArgs),
+    /// List the built-in presets and the runners with their factors and metrics.
+    List(CampaignListArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignRunArgs {
+    /// The campaign file (TOML); or use --preset.
+    #[arg(required_unless_present = "preset", conflicts_with = "preset")]
+    pub file: Option<PathBuf>,
+    /// A built-in campaign (see `usar campaign list`), e.g. smoke.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Result folder (default: out/campaigns/NAME).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Parallel runs (default: one per core).
+    #[arg(long, default_value_t = 0)]
+    pub jobs: usize,
+    /// Run only the deterministic slice K of N of the design (e.g. 3/8), for job arrays.
+    #[arg(long, default_value = "1/1")]
+    pub shard: String,
+    /// Print a JSON summary (no progress bar).
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignMergeArgs {
+    /// Result folders of the shards.
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// New result folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ReportFormat {
+    Md,
+    Html,
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignReportArgs {
+    /// A result folder.
+    pub dir: PathBuf,
+    /// Written into DIR/report/ with the plots.
+    #[arg(long, value_enum, default_value_t = ReportFormat::Md)]
+    pub format: ReportFormat,
+    /// Print the tables and every test as JSON (the files are written too).
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignExportArgs {
+    /// A result folder.
+    pub dir: PathBuf,
+    /// The CSV file to write.
+    #[arg(long)]
+    pub csv: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignListArgs {
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Subcommand)]

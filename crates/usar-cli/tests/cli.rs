@@ -1,5 +1,7 @@
 //! End-to-end tests of the `usar` binary: exit codes, error lines, determinism, round trips.
 
+mod campaign;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -2,6 +2,7 @@
 //! (text, or JSON with `--json`).
 
 mod bench;
+mod campaign;
 mod demo;
 mod explore;
 mod plan;
@@ -17,6 +18,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Explore(args) => explore::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Campaign(cmd) => campaign::run(cmd),
     }
 }
 

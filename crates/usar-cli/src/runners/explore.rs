@@ -1,0 +1,199 @@
+//! Runner `explore`: the baseline nearest-frontier team explorer (paper 002's Distance
+//! strategy) on a scene.
+
+use crate::cli::ImageArgs;
+use crate::scene_source;
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
+use usar_campaign::{
+    Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
+};
+use usar_team::{TeamConfig, TeamMission};
+use usar_world::Scene;
+
+pub struct ExploreRunner {
+    /// Scenes by (scene, scene_seed): generated or read once per campaign.
+    scenes: Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
+}
+
+impl ExploreRunner {
+    pub const fn new() -> Self {
+        Self {
+            scenes: Mutex::new(BTreeMap::new()),
+        }
+    }
+
+    fn scene(&self, config: &Config) -> Result<Arc<Scene>, String> {
+        let name = config.text("scene").unwrap_or("office").to_string();
+        let seed = config.int("scene_seed").unwrap_or(1) as u64;
+        let key = (name.clone(), seed);
+        if let Some(s) = self.scenes.lock().expect("scene cache").get(&key) {
+            return Ok(s.clone());
+        }
+        let image = ImageArgs {
+            resolution: None,
+            negate: false,
+            occupied_thresh: 0.65,
+            free_thresh: 0.196,
+        };
+        let scene = Arc::new(
+            scene_source::load(&name, seed, &image).map_err(|f| format!("{:#}", f.error))?,
+        );
+        self.scenes
+            .lock()
+            .expect("scene cache")
+            .insert(key, scene.clone());
+        Ok(scene)
+    }
+
+    fn team_config(config: &Config) -> Result<TeamConfig, String> {
+        let robot = scene_source::load_robot(config.text("robot").unwrap_or("wheeled"))
+            .map_err(|f| format!("{:#}", f.error))?;
+        let stop = config.float("stop_at_coverage").unwrap_or(1.0);
+        let stall = config.float("stall_minutes").unwrap_or(3.0);
+        Ok(TeamConfig {
+            robots: config.int("robots").unwrap_or(4) as usize,
+            robot,
+            duration_s: config.float("minutes").unwrap_or(20.0) * 60.0,
+            stop_at_coverage: (stop < 1.0).then_some(stop),
+            stall_after_s: (stall > 0.0).then_some(stall * 60.0),
+            ..TeamConfig::default()
+        })
+    }
+}
+
+fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpec {
+    FactorSpec {
+        name: name.into(),
+        kind,
+        default,
+        help: help.into(),
+    }
+}
+
+fn metric(name: &str, help: &str) -> MetricSpec {
+    MetricSpec {
+        name: name.into(),
+        help: help.into(),
+    }
+}
+
+impl Runner for ExploreRunner {
+    fn name(&self) -> &str {
+        "explore"
+    }
+
+    fn factors(&self) -> Vec<FactorSpec> {
+        vec![
+            factor(
+                "scene",
+                FactorKind::Text { choices: vec![] },
+                Level::Text("office".into()),
+                "a generator name (office, mall, rubble, course) or a scene/map file",
+            ),
+            factor(
+                "scene_seed",
+                FactorKind::Int {
+                    min: 0,
+                    max: i64::MAX,
+                },
+                Level::Int(1),
+                "seed of a generated scene",
+            ),
+            factor(
+                "robots",
+                FactorKind::Int { min: 1, max: 64 },
+                Level::Int(4),
+                "team size",
+            ),
+            factor(
+                "robot",
+                FactorKind::Text { choices: vec![] },
+                Level::Text("wheeled".into()),
+                "robot model: crawler, wheeled or a robot TOML file",
+            ),
+            factor(
+                "minutes",
+                FactorKind::Float {
+                    min: 0.01,
+                    max: 1440.0,
+                },
+                Level::Float(20.0),
+                "simulated time limit",
+            ),
+            factor(
+                "stop_at_coverage",
+                FactorKind::Float { min: 0.0, max: 1.0 },
+                Level::Float(1.0),
+                "stop at this coverage (1: never)",
+            ),
+            factor(
+                "stall_minutes",
+                FactorKind::Float {
+                    min: 0.0,
+                    max: 1440.0,
+                },
+                Level::Float(3.0),
+                "stop when coverage grew < 0.2 % in this long (0: never)",
+            ),
+        ]
+    }
+
+    fn metrics(&self) -> Vec<MetricSpec> {
+        vec![
+            metric(
+                "coverage",
+                "known fraction of the reachable area at the end",
+            ),
+            metric("victims_seen", "victims whose heat signature a robot saw"),
+            metric("time_s", "simulated time at the end"),
+            metric("distance_m", "distance driven by the whole team"),
+            metric("collisions", "collisions of the whole team"),
+        ]
+    }
+
+    fn series_x(&self) -> &str {
+        "time (s)"
+    }
+
+    fn check(&self, config: &Config) -> Result<(), String> {
+        let scene = self.scene(config)?;
+        let team = Self::team_config(config)?;
+        if scene.start_poses.len() < team.robots {
+            return Err(format!(
+                "scene {} has {} start poses, robots = {}",
+                scene.name,
+                scene.start_poses.len(),
+                team.robots
+            ));
+        }
+        Ok(())
+    }
+
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
+        let scene = self.scene(config)?;
+        let team = Self::team_config(config)?;
+        let outcome = TeamMission::new(scene, team, seed)
+            .map_err(|e| e.to_string())?
+            .run(|_| {});
+        let metrics = BTreeMap::from([
+            ("coverage".to_string(), outcome.coverage),
+            ("victims_seen".to_string(), outcome.victims_seen as f64),
+            ("time_s".to_string(), outcome.time_s),
+            ("distance_m".to_string(), outcome.distance_m),
+            ("collisions".to_string(), f64::from(outcome.collisions)),
+        ]);
+        let series = outcome
+            .series
+            .iter()
+            .map(|s| SeriesPoint {
+                x: (s.time_s * 1e3).round() / 1e3,
+                values: BTreeMap::from([
+                    ("coverage".to_string(), s.coverage),
+                    ("victims_seen".to_string(), s.victims_seen as f64),
+                ]),
+            })
+            .collect();
+        Ok(RunOutput { metrics, series })
+    }
+}

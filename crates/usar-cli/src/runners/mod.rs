@@ -1,0 +1,22 @@
+//! The runners campaigns can name: each wraps a controller of the library crates as a
+//! [`usar_campaign::Runner`].
+
+mod explore;
+
+use usar_campaign::Runner;
+
+static EXPLORE: explore::ExploreRunner = explore::ExploreRunner::new();
+
+/// Every runner, by the name campaign files use.
+pub fn all() -> [&'static dyn Runner; 1] {
+    [&EXPLORE]
+}
+
+/// The runner a campaign names, if there is one.
+pub fn named(name: &str) -> Option<&'static dyn Runner> {
+    all().into_iter().find(|r| r.name() == name)
+}
+
+/// The built-in campaign presets: name and file text (the files live in `campaigns/`).
+pub const PRESETS: [(&str, &str); 1] =
+    [("smoke", include_str!("../../../../campaigns/smoke.toml"))];

@@ -1,0 +1,243 @@
+//! `usar campaign`: killed and resumed, sharded and merged, reported and exported, bad input.
+
+use super::{assert_bad_input, usar};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+use usar_campaign::Store;
+
+fn digest(dir: &Path) -> String {
+    Store::open(&Store::path_in(dir))
+        .unwrap()
+        .results_digest()
+        .unwrap()
+}
+
+/// Runs stored so far (0 while the database does not exist or is busy).
+fn stored(dir: &Path) -> usize {
+    Store::open(&Store::path_in(dir))
+        .ok()
+        .and_then(|s| s.finished_ids().ok())
+        .map_or(0, |ids| ids.len())
+}
+
+fn ok(out: &std::process::Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn smoke_killed_midway_resumes_to_the_same_results_as_shards_merged() {
+    let tmp = tempfile::tempdir().unwrap();
+    let killed = tmp.path().join("killed");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_usar"))
+        .args([
+            "campaign", "run", "--preset", "smoke", "--jobs", "2", "--json", "--out",
+        ])
+        .arg(&killed)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while stored(&killed) < 6 && started.elapsed() < Duration::from_secs(300) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let before = stored(&killed);
+    assert!(
+        (6..30).contains(&before),
+        "killed after {before} of 30 runs"
+    );
+    let resumed = usar(&[
+        "campaign",
+        "run",
+        "--preset",
+        "smoke",
+        "--json",
+        "--out",
+        killed.to_str().unwrap(),
+    ]);
+    ok(&resumed);
+    let v: serde_json::Value = serde_json::from_slice(&resumed.stdout).unwrap();
+    assert_eq!(v["report"]["skipped"], before as u64);
+    assert_eq!(v["report"]["done"], 30 - before as u64);
+    assert_eq!(v["report"]["stored"], 30);
+
+    // The same campaign in two shards, merged.
+    let (s1, s2, merged) = (
+        tmp.path().join("s1"),
+        tmp.path().join("s2"),
+        tmp.path().join("m"),
+    );
+    for (shard, dir) in [("1/2", &s1), ("2/2", &s2)] {
+        let out = usar(&[
+            "campaign",
+            "run",
+            "--preset",
+            "smoke",
+            "--jobs",
+            "1",
+            "--json",
+            "--shard",
+            shard,
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        ok(&out);
+        assert_eq!(stored(dir), 15);
+    }
+    ok(&usar(&[
+        "campaign",
+        "merge",
+        s1.to_str().unwrap(),
+        s2.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]));
+    assert_eq!(stored(&merged), 30);
+    assert_eq!(digest(&killed), digest(&merged));
+
+    report_agrees_with_a_recomputation_from_the_csv(&merged, &tmp.path().join("runs.csv"));
+}
+
+/// The report's table cells and t-tests, recomputed from the exported CSV with plain formulas
+/// and statrs' distributions directly.
+fn report_agrees_with_a_recomputation_from_the_csv(dir: &Path, csv_path: &Path) {
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    ok(&usar(&[
+        "campaign",
+        "export",
+        dir.to_str().unwrap(),
+        "--csv",
+        csv_path.to_str().unwrap(),
+    ]));
+    let rep = usar(&["campaign", "report", dir.to_str().unwrap(), "--json"]);
+    ok(&rep);
+    let rep: serde_json::Value = serde_json::from_slice(&rep.stdout).unwrap();
+    let mut reader = csv::Reader::from_path(csv_path).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    for col in [
+        "run_id",
+        "config_index",
+        "repetition",
+        "seed",
+        "robot",
+        "robots",
+        "scene",
+        "coverage",
+        "victims_seen",
+    ] {
+        assert!(
+            header.contains(&col.to_string()),
+            "column {col} missing: {header:?}"
+        );
+    }
+    let rows: Vec<BTreeMap<String, String>> = reader
+        .records()
+        .map(|r| {
+            header
+                .iter()
+                .cloned()
+                .zip(r.unwrap().iter().map(String::from))
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 30);
+    let values = |robots: &str, robot: Option<&str>| -> Vec<f64> {
+        rows.iter()
+            .filter(|r| r["robots"] == robots && robot.is_none_or(|b| r["robot"] == b))
+            .map(|r| r["coverage"].parse().unwrap())
+            .collect()
+    };
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let var = |v: &[f64]| {
+        let m = mean(v);
+        v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64
+    };
+    let table = &rep["report"]["tables"][0];
+    assert_eq!(table["metric"], "coverage");
+    for (i, robots) in ["1", "2", "3"].iter().enumerate() {
+        for (j, robot) in ["wheeled", "crawler"].iter().enumerate() {
+            let v = values(robots, Some(robot));
+            let cell = &table["cells"][i][j];
+            assert!((cell["mean"].as_f64().unwrap() - mean(&v)).abs() < 1e-6);
+            assert!((cell["sd"].as_f64().unwrap() - var(&v).sqrt()).abs() < 1e-6);
+        }
+    }
+    // Welch, robots 3 > 1 (the third comparison of the smoke campaign).
+    let (a, b) = (values("3", None), values("1", None));
+    let (va, vb) = (var(&a) / a.len() as f64, var(&b) / b.len() as f64);
+    let t = (mean(&a) - mean(&b)) / (va + vb).sqrt();
+    let df = (va + vb).powi(2) / (va * va / (a.len() - 1) as f64 + vb * vb / (b.len() - 1) as f64);
+    let p = 1.0 - StudentsT::new(0.0, 1.0, df).unwrap().cdf(t);
+    let welch = &rep["report"]["tests"][2];
+    assert_eq!(welch["test"], "welch");
+    assert!((welch["statistic"].as_f64().unwrap() - t).abs() < 1e-6);
+    assert!((welch["df"][0].as_f64().unwrap() - df).abs() < 1e-6);
+    assert!((welch["p"].as_f64().unwrap() - p).abs() < 1e-6);
+    assert!(dir.join("report").join("series_coverage.svg").is_file());
+}
+
+#[test]
+fn bad_campaign_files_and_databases_exit_2_and_leave_results_untouched() {
+    let tmp = tempfile::tempdir().unwrap();
+    let smoke = include_str!("../../../campaigns/smoke.toml");
+    for (name, text, needle) in [
+        (
+            "unknown-factor.toml",
+            smoke.replace("robots = [1, 2, 3]", "robotz = [1, 2, 3]"),
+            "unknown factor `robotz`",
+        ),
+        (
+            "typo.toml",
+            smoke.replace("base_seed = 1", "base_sede = 1"),
+            "unknown field `base_sede`",
+        ),
+        (
+            "bad-level.toml",
+            smoke.replace("robots = [1, 2, 3]", "robots = [1, 0]"),
+            "robots` level 0",
+        ),
+    ] {
+        let f = tmp.path().join(name);
+        std::fs::write(&f, text).unwrap();
+        let out = usar(&[
+            "campaign",
+            "run",
+            f.to_str().unwrap(),
+            "--out",
+            tmp.path().join("o").to_str().unwrap(),
+        ]);
+        assert_bad_input(&out, needle);
+    }
+    assert!(
+        !tmp.path().join("o").exists(),
+        "nothing written for a bad campaign"
+    );
+
+    let corrupt = tmp.path().join("corrupt");
+    std::fs::create_dir(&corrupt).unwrap();
+    let db = corrupt.join("results.sqlite");
+    let junk = b"SQLite format 3\0 but not really".repeat(64);
+    std::fs::write(&db, &junk).unwrap();
+    for args in [
+        vec![
+            "campaign",
+            "run",
+            "--preset",
+            "smoke",
+            "--out",
+            corrupt.to_str().unwrap(),
+        ],
+        vec!["campaign", "report", corrupt.to_str().unwrap()],
+    ] {
+        assert_bad_input(&usar(&args), "not a usar campaign result database");
+    }
+    assert_eq!(std::fs::read(&db).unwrap(), junk);
+}
