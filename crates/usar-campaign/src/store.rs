@@ -231,11 +231,9 @@ impl Store {
             .conn
             .prepare("SELECT id FROM runs ORDER BY id")
             .map_err(|e| CampaignError::db(&self.path, e))?;
-        let ids = stmt
-            .query_map([], |r| r.get::<_, i64>(0))
+        stmt.query_map([], |r| r.get::<_, i64>(0))
             .and_then(|rows| rows.map(|r| r.map(|v| v as u64)).collect())
-            .map_err(|e| CampaignError::db(&self.path, e));
-        ids
+            .map_err(|e| CampaignError::db(&self.path, e))
     }
 
     /// Writes finished runs in one transaction: all of them, or (on error) none.
@@ -444,13 +442,11 @@ pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> Result<(usize, u64)> {
                 .conn
                 .prepare("SELECT run_id, wall_time_s FROM timings")
                 .map_err(|e| CampaignError::db(s.path(), e))?;
-            let rows = stmt
-                .query_map([], |r| {
-                    Ok((r.get::<_, i64>(0)? as u64, r.get::<_, f64>(1)?))
-                })
-                .and_then(|rows| rows.collect::<std::result::Result<_, _>>())
-                .map_err(|e| CampaignError::db(s.path(), e))?;
-            rows
+            stmt.query_map([], |r| {
+                Ok((r.get::<_, i64>(0)? as u64, r.get::<_, f64>(1)?))
+            })
+            .and_then(|rows| rows.collect::<std::result::Result<_, _>>())
+            .map_err(|e| CampaignError::db(s.path(), e))?
         };
         for run in s.runs()? {
             if let Some((existing, _)) = merged.get(&run.id) {

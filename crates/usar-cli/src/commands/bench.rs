@@ -115,8 +115,8 @@ fn campaign_overhead_ms() -> CmdResult<(f64, f64)> {
         .take(200)
         .map(|spec| {
             let config = design.configs[spec.config_index].clone();
-            let output = usar_campaign::Runner::run(&NoopRunner, &config, spec.seed)
-                .expect("no-op runs");
+            let output =
+                usar_campaign::Runner::run(&NoopRunner, &config, spec.seed).expect("no-op runs");
             let finished = usar_campaign::store::Finished {
                 id: spec.id,
                 config_index: spec.config_index,
