@@ -262,12 +262,8 @@ impl Design {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let mut base = BTreeMap::new();
-        for spec in &specs {
-            base.insert(spec.name.clone(), spec.default.clone());
-        }
-        for (name, value) in &campaign.fixed {
-            let spec = specs.iter().find(|s| &s.name == name).ok_or_else(|| {
+        let spec_of = |name: &str| {
+            specs.iter().find(|s| s.name == name).ok_or_else(|| {
                 bad(
                     name,
                     format!(
@@ -276,7 +272,14 @@ impl Design {
                         known()
                     ),
                 )
-            })?;
+            })
+        };
+        let mut base = BTreeMap::new();
+        for spec in &specs {
+            base.insert(spec.name.clone(), spec.default.clone());
+        }
+        for (name, value) in &campaign.fixed {
+            let spec = spec_of(name)?;
             let v = spec
                 .check(value)
                 .map_err(|want| bad(name, format!("fixed `{name}` = {value}, expected {want}")))?;
@@ -284,16 +287,7 @@ impl Design {
         }
         let mut levels: Vec<(String, Vec<Level>)> = Vec::new();
         for (name, values) in &campaign.factors {
-            let spec = specs.iter().find(|s| &s.name == name).ok_or_else(|| {
-                bad(
-                    name,
-                    format!(
-                        "unknown factor `{name}` for runner {}, expected one of {}",
-                        runner.name(),
-                        known()
-                    ),
-                )
-            })?;
+            let spec = spec_of(name)?;
             if campaign.fixed.contains_key(name) {
                 return Err(bad(
                     name,
