@@ -37,6 +37,34 @@ pub enum Command {
     /// statistics and plots, export CSV.
     #[command(subcommand)]
     Campaign(CampaignCommand),
+    /// Paper 000's hierarchical reinforcement learning (MAXQ-Q).
+    #[command(subcommand)]
+    Maxq(MaxqCommand),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum MaxqCommand {
+    /// Check the MAXQ-Q engine on Dietterich's Taxi domain: trains MAXQ-Q and flat Q with the
+    /// same seed and compares their greedy policies with the optimum (value iteration).
+    Taxi(MaxqTaxiArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MaxqTaxiArgs {
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Learning episodes per learner.
+    #[arg(long, default_value_t = 4000)]
+    pub episodes: u64,
+    /// Random starts the greedy policies are evaluated on (at least 500 for the check).
+    #[arg(long, default_value_t = 1000)]
+    pub eval_starts: usize,
+    /// Draw the learning curves (greedy return vs episodes) into this .png or .svg file.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print the report as JSON (with the curve).
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Subcommand)]

@@ -262,3 +262,21 @@ fn help_explains_the_commands() {
         assert!(text.contains(word), "{word} missing from --help");
     }
 }
+
+#[test]
+fn maxq_taxi_reaches_the_optimal_return() {
+    let out = usar(&["maxq", "taxi", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let optimal = v["optimal_return"].as_f64().unwrap();
+    assert!(v["maxq_return"].as_f64().unwrap() >= optimal - 0.5);
+    assert!(v["flat_return"].as_f64().is_some());
+    assert!(
+        v["maxq_episodes_to_optimal"].as_u64().unwrap()
+            < v["flat_episodes_to_optimal"].as_u64().unwrap_or(u64::MAX)
+    );
+}

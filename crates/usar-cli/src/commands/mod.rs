@@ -5,6 +5,7 @@ mod bench;
 mod campaign;
 mod demo;
 mod explore;
+mod maxq;
 mod plan;
 mod scene;
 
@@ -19,6 +20,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Demo(args) => demo::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Campaign(cmd) => campaign::run(cmd),
+        Command::Maxq(cmd) => maxq::run(cmd),
     }
 }
 

@@ -1,0 +1,14 @@
+//! `usar-maxq`: paper 000's learning machinery. A generic MAXQ-Q engine ([`maxq`]) over any
+//! [`Domain`] and [`Hierarchy`], flat Q-learning for comparison ([`flat_q`]), the learning-rate
+//! and exploration schedules ([`schedule`]), and Dietterich's Taxi domain ([`taxi`]) as the
+//! engine's correctness check. The USAR hierarchy of paper 000 (Root → NUR, VI, HC; NG → F, B,
+//! rotate) builds on the same engine.
+
+pub mod flat_q;
+pub mod maxq;
+pub mod schedule;
+pub mod taxi;
+
+pub use self::flat_q::FlatQ;
+pub use self::maxq::{Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind};
+pub use self::schedule::Schedule;
