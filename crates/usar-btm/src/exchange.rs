@@ -1,0 +1,168 @@
+//! Exchanging BTMs: JSON (lossless; format `usar-btm`, version 1) and GraphML (for graph
+//! tools such as yEd, Gephi or NetworkX; every attribute a `<data>` key).
+//!
+//! JSON readers ignore unknown top-level fields and keep unknown node kinds and `extra`
+//! attributes, so a map written by a newer version still loads.
+
+use crate::model::{Btm, Link, Node};
+use serde::{Deserialize, Serialize};
+
+pub const JSON_FORMAT: &str = "usar-btm";
+pub const JSON_VERSION: u32 = 1;
+
+#[derive(Serialize, Deserialize)]
+struct JsonFile {
+    format: String,
+    version: u32,
+    nodes: Vec<Node>,
+    links: Vec<Link>,
+}
+
+/// The map as pretty JSON, with each node's number of links and angles between adjacent
+/// links (Table I) added as `links` and `link_angles_rad` for readers (ignored on import).
+pub fn to_json(btm: &Btm) -> String {
+    let nodes: Vec<serde_json::Value> = btm
+        .nodes
+        .iter()
+        .map(|n| {
+            let mut v = serde_json::to_value(n).expect("nodes serialize");
+            v["links"] = btm.links_of(n.id).count().into();
+            v["link_angles_rad"] = btm.link_angles(n.id).into();
+            v
+        })
+        .collect();
+    serde_json::to_string_pretty(&serde_json::json!({
+        "format": JSON_FORMAT,
+        "version": JSON_VERSION,
+        "nodes": nodes,
+        "links": btm.links,
+    }))
+    .expect("JSON serializes")
+}
+
+/// Reads a map from JSON; `source` names it in errors.
+pub fn from_json(text: &str, source: &str) -> Result<Btm, String> {
+    let file: JsonFile =
+        serde_json::from_str(text).map_err(|e| format!("{source}: line {}: {e}", e.line()))?;
+    if file.format != JSON_FORMAT {
+        return Err(format!(
+            "{source}: field `format`: found {:?}, expected \"{JSON_FORMAT}\"",
+            file.format
+        ));
+    }
+    if file.version > JSON_VERSION {
+        return Err(format!(
+            "{source}: field `version`: found {}, expected {JSON_VERSION} or older",
+            file.version
+        ));
+    }
+    let btm = Btm {
+        nodes: file.nodes,
+        links: file.links,
+    };
+    for l in &btm.links {
+        for end in std::iter::once(l.start).chain(l.end) {
+            if btm.node(end).is_none() {
+                return Err(format!(
+                    "{source}: link {}: node {end} does not exist, expected a node id of the map",
+                    l.id
+                ));
+            }
+        }
+    }
+    Ok(btm)
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The map as GraphML: one `<node>` per node and one `<edge>` per searched link; an
+/// un-searched link becomes an edge to a placeholder node of kind `unknown` (GraphML edges need
+/// two ends).
+pub fn to_graphml(btm: &Btm) -> String {
+    let node_keys = [
+        ("x_m", "double"),
+        ("y_m", "double"),
+        ("kind", "string"),
+        ("subtype", "string"),
+        ("slope_inclination_rad", "double"),
+        ("step_height_m", "double"),
+        ("max_robot_inclination_rad", "double"),
+        ("operator_note", "string"),
+        ("extra", "string"),
+    ];
+    let edge_keys = [
+        ("searched", "boolean"),
+        ("direction_rad", "double"),
+        ("length_m", "double"),
+        ("min_width_m", "double"),
+        ("max_inclination_rad", "double"),
+        ("max_step_m", "double"),
+        ("link_extra", "string"),
+    ];
+    let mut out = String::from(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<graphml xmlns=\"http://graphml.graphdrawing.org/xmlns\">\n",
+    );
+    for (k, t) in node_keys {
+        out += &format!("  <key id=\"{k}\" for=\"node\" attr.name=\"{k}\" attr.type=\"{t}\"/>\n");
+    }
+    for (k, t) in edge_keys {
+        out += &format!("  <key id=\"{k}\" for=\"edge\" attr.name=\"{k}\" attr.type=\"{t}\"/>\n");
+    }
+    out += "  <graph id=\"btm\" edgedefault=\"undirected\">\n";
+    let data = |k: &str, v: Option<String>| {
+        v.map(|v| format!("      <data key=\"{k}\">{}</data>\n", xml_escape(&v)))
+            .unwrap_or_default()
+    };
+    let num = |v: Option<f64>| v.map(|v| v.to_string());
+    for n in &btm.nodes {
+        out += &format!("    <node id=\"n{}\">\n", n.id);
+        out += &data("x_m", Some(n.x_m.to_string()));
+        out += &data("y_m", Some(n.y_m.to_string()));
+        out += &data("kind", Some(n.kind.clone()));
+        out += &data("subtype", n.subtype.clone());
+        out += &data("slope_inclination_rad", num(n.slope_inclination_rad));
+        out += &data("step_height_m", num(n.step_height_m));
+        out += &data(
+            "max_robot_inclination_rad",
+            num(n.max_robot_inclination_rad),
+        );
+        out += &data("operator_note", n.operator_note.clone());
+        if !n.extra.is_empty() {
+            out += &data("extra", serde_json::to_string(&n.extra).ok());
+        }
+        out += "    </node>\n";
+    }
+    for l in &btm.links {
+        let target = match l.end {
+            Some(e) => format!("n{e}"),
+            None => {
+                out += &format!(
+                    "    <node id=\"u{}\">\n{}    </node>\n",
+                    l.id,
+                    data("kind", Some("unknown".into()))
+                );
+                format!("u{}", l.id)
+            }
+        };
+        out += &format!(
+            "    <edge id=\"l{}\" source=\"n{}\" target=\"{target}\">\n",
+            l.id, l.start
+        );
+        out += &data("searched", Some(l.searched.to_string()));
+        out += &data("direction_rad", Some(l.direction_rad.to_string()));
+        out += &data("length_m", num(l.length_m));
+        out += &data("min_width_m", num(l.min_width_m));
+        out += &data("max_inclination_rad", num(l.max_inclination_rad));
+        out += &data("max_step_m", num(l.max_step_m));
+        if !l.extra.is_empty() {
+            out += &data("link_extra", serde_json::to_string(&l.extra).ok());
+        }
+        out += "    </edge>\n";
+    }
+    out + "  </graph>\n</graphml>\n"
+}
