@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use usar_map::planning::bench_grid::{corner_cells, synthetic_building, synthetic_building_walls};
 use usar_map::planning::{
-    Connectivity, DIAGONAL_COST, DistanceField, GridAStar, GridPath, NavGrid,
+    Connectivity, DIAGONAL_COST, DistanceField, GridAStar, GridAlgorithm, GridPath, NavGrid,
     check_scenario_sample, check_scenarios, graph_astar, inflate,
 };
 use usar_world::{Cell, Grid, GridGeometry, Point2};
@@ -323,6 +323,35 @@ fn grid_strategy() -> impl Strategy<Value = (NavGrid, Cell, Cell)> {
 
 const BOTH: [Connectivity; 2] = [Connectivity::Four, Connectivity::Eight];
 
+/// Larger random grids for jump point search: rooms-like blocks and scattered cells, with a
+/// density from open floor to nearly closed, and start and goal anywhere.
+fn jump_grid_strategy() -> impl Strategy<Value = (NavGrid, Cell, Cell)> {
+    (1u32..40, 1u32..40, 0.0f64..0.5, 0usize..4).prop_flat_map(|(w, h, density, walls)| {
+        let cells = (w * h) as usize;
+        (
+            proptest::collection::vec(proptest::bool::weighted(density), cells),
+            proptest::collection::vec((0..w as i32, 0..h as i32, any::<bool>(), 1i32..30), walls),
+            0..w as i32,
+            0..h as i32,
+            0..w as i32,
+            0..h as i32,
+        )
+            .prop_map(move |(blocked, walls, c0, r0, c1, r1)| {
+                let g = GridGeometry::new(w, h, 0.1, Point2::new(0.0, 0.0));
+                let mut grid = NavGrid::from_blocked(&Grid::from_vec(g, blocked).unwrap());
+                // Straight walls make corridors and rooms, where jumps are long.
+                for (c, r, horizontal, len) in walls {
+                    for k in 0..len {
+                        let cell =
+                            if horizontal { Cell::new(c + k, r) } else { Cell::new(c, r + k) };
+                        grid.set_passable(cell, false);
+                    }
+                }
+                (grid, Cell::new(c0, r0), Cell::new(c1, r1))
+            })
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
@@ -342,6 +371,31 @@ proptest! {
             }
             // The open list's step classes cover every move (no fallback to the heap).
             prop_assert_eq!(astar.fallback_pushes(), 0);
+        }
+    }
+
+    #[test]
+    fn jump_point_search_lengths_equal_plain_astar_and_paths_are_valid(
+        (grid, start, goal) in jump_grid_strategy(),
+    ) {
+        let mut jps = GridAStar::new();
+        let mut plain = GridAStar::new();
+        let expected =
+            plain.plan_with(&grid, start, goal, Connectivity::Eight, GridAlgorithm::AStar);
+        let planned =
+            jps.plan_with(&grid, start, goal, Connectivity::Eight, GridAlgorithm::JumpPoint);
+        prop_assert_eq!(planned.is_some(), expected.is_some());
+        if let (Some(path), Some(best)) = (planned, expected) {
+            // Every cell listed, none blocked, no corner cut, length the sum of its steps.
+            assert_valid_path(&grid, &path, Connectivity::Eight);
+            prop_assert_eq!(path.cells.first(), Some(&start));
+            prop_assert_eq!(path.cells.last(), Some(&goal));
+            prop_assert!(
+                (path.length_cells - best.length_cells).abs() < 1e-9,
+                "JPS {} vs A* {}", path.length_cells, best.length_cells
+            );
+            // `plan` runs jump point search for 8-connected planning.
+            prop_assert_eq!(jps.plan(&grid, start, goal, Connectivity::Eight), Some(path));
         }
     }
 

@@ -31,13 +31,14 @@ mod distance_field;
 mod graph_astar;
 mod grid_astar;
 mod inflate;
+mod jump_point;
 mod nav_grid;
 mod open_list;
 pub mod scenarios;
 
 pub use self::distance_field::DistanceField;
 pub use self::graph_astar::{TotalCost, astar, astar_bag, graph_astar};
-pub use self::grid_astar::{Connectivity, DIAGONAL_COST, GridAStar, GridPath};
+pub use self::grid_astar::{Connectivity, DIAGONAL_COST, GridAStar, GridAlgorithm, GridPath};
 pub use self::inflate::inflate;
 pub use self::nav_grid::NavGrid;
 pub use self::scenarios::{Mismatch, ScenarioReport, check_scenario_sample, check_scenarios};
