@@ -326,11 +326,11 @@ const BOTH: [Connectivity; 2] = [Connectivity::Four, Connectivity::Eight];
 /// Larger random grids for jump point search: rooms-like blocks and scattered cells, with a
 /// density from open floor to nearly closed, and start and goal anywhere.
 fn jump_grid_strategy() -> impl Strategy<Value = (NavGrid, Cell, Cell)> {
-    (1u32..40, 1u32..40, 0.0f64..0.5, 0usize..4).prop_flat_map(|(w, h, density, walls)| {
+    (1u32..100, 1u32..70, 0.0f64..0.5, 0usize..6).prop_flat_map(|(w, h, density, walls)| {
         let cells = (w * h) as usize;
         (
             proptest::collection::vec(proptest::bool::weighted(density), cells),
-            proptest::collection::vec((0..w as i32, 0..h as i32, any::<bool>(), 1i32..30), walls),
+            proptest::collection::vec((0..w as i32, 0..h as i32, any::<bool>(), 1i32..80), walls),
             0..w as i32,
             0..h as i32,
             0..w as i32,

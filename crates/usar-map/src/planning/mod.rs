@@ -27,6 +27,7 @@
 //! ```
 
 pub mod bench_grid;
+mod bit_lines;
 mod distance_field;
 mod graph_astar;
 mod grid_astar;
