@@ -128,7 +128,9 @@ mod tests {
         let mut cells = vec![0u8; stride * rows];
         for r in 1..rows - 1 {
             for c in 1..stride - 1 {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 cells[r * stride + c] = u8::from(state >> 61 != 0);
             }
         }
@@ -142,7 +144,10 @@ mod tests {
                     .find(|&p| stops(&cells, stride, r, p, 1))
                     .unwrap();
                 assert_eq!(by_rows.scan_forward(r, c), forward, "row {r} col {c}");
-                let backward = (0..c).rev().find(|&p| stops(&cells, stride, r, p, -1)).unwrap();
+                let backward = (0..c)
+                    .rev()
+                    .find(|&p| stops(&cells, stride, r, p, -1))
+                    .unwrap();
                 assert_eq!(by_rows.scan_backward(r, c), backward, "row {r} col {c}");
             }
         }

@@ -1,5 +1,6 @@
 //! A* on a [`NavGrid`]: 4- or 8-connected, octile costs, no corner cutting, reusable scratch
-//! memory.
+//! memory; 8-connected planning by jump point search (`jump_point.rs`) unless plain A* is asked
+//! for ([`GridAlgorithm`]).
 //!
 //! Hart, Nilsson & Raphael 1968 ("A Formal Basis for the Heuristic Determination of Minimum Cost
 //! Paths"): expand the open cell of least f = g + h. Costs follow the MovingAI benchmarks
@@ -93,8 +94,8 @@ impl GridPath {
     }
 }
 
-/// Grid A* with scratch memory kept between searches: after the first search on a grid of a
-/// given size, planning allocates only the returned path.
+/// Grid A* (and jump point search) with scratch memory kept between searches: after the first
+/// search on a grid of a given size, planning allocates only the returned path.
 #[derive(Clone, Debug, Default)]
 pub struct GridAStar {
     /// Per padded cell: `2·search` while open, `2·search + 1` once closed, anything else:

@@ -1,7 +1,8 @@
 //! Grid and graph planners: the [`NavGrid`] the planners read, [`inflate`] for the robot's
-//! radius, [`GridAStar`] (4- or 8-connected, octile costs, no corner cutting), a generic
-//! [`graph_astar`] for graphs such as the BTM, the multi-source [`DistanceField`], a checker of
-//! MovingAI scenarios, and a synthetic building floor for speed measurements.
+//! radius, [`GridAStar`] (4- or 8-connected, octile costs, no corner cutting; jump point search
+//! for 8-connected plans), a generic [`graph_astar`] for graphs such as the BTM, the
+//! multi-source [`DistanceField`], a checker of MovingAI scenarios, and a synthetic building
+//! floor for speed measurements.
 //!
 //! Everything works on flat buffers with a one-cell blocked border and keeps its scratch memory
 //! between calls, so that repeated searches on a grid of one size do not allocate.
