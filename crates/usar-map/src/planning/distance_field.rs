@@ -35,8 +35,8 @@
 
 use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath, MAX_CELLS};
 use super::nav_grid::{NavGrid, PASSABLE};
-
 use super::open_list::Fifo;
+
 use usar_world::{Cell, Grid, GridGeometry, NEIGHBORS8, Point2};
 
 /// Relative tolerance of the descent's test d(next) + cost = d(cell): the distances are exact
@@ -83,6 +83,31 @@ const MOVES_TO_TRY: [u32; 9] = [
     0b1111_1111, // a source: all
 ];
 
+/// The two straight moves beside each diagonal move (north-east: east and north, …), whose
+/// cells must be passable for it.
+const DIAGONAL_SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
+
+/// The neighbours whose distances a scan of the list of each move reads: the moves it tries and
+/// the cells beside its diagonal ones.
+const NEEDED: [u32; 9] = {
+    let mut needed = [0; 9];
+    let mut m = 0;
+    while m < 9 {
+        let moves = MOVES_TO_TRY[m];
+        needed[m] = moves;
+        let mut k = 4;
+        while k < 8 {
+            if moves & (1 << k) != 0 {
+                let (a, b) = DIAGONAL_SIDES[k - 4];
+                needed[m] |= (1 << a) | (1 << b);
+            }
+            k += 1;
+        }
+        m += 1;
+    }
+    needed
+};
+
 /// Distances from a set of source cells to every cell of a [`NavGrid`].
 ///
 /// The buffers are kept between [`DistanceField::compute`] calls: recomputing on a grid of the
@@ -98,6 +123,9 @@ pub struct DistanceField {
     distance: Vec<f64>,
     /// The passable sources, in the order given.
     sources: Vec<Cell>,
+    /// Per padded cell, [`PASSABLE`] while not reached by the breadth-first search
+    /// ([`Connectivity::Four`]); a dense copy of the grid that keeps its tests in cache.
+    unvisited: Vec<u8>,
     /// Breadth-first queue ([`Connectivity::Four`]).
     frontier: Fifo<u32>,
     /// The three buckets in use ([`Connectivity::Eight`]): the one being scanned, the next one
@@ -120,6 +148,7 @@ impl DistanceField {
             stride: 2,
             connectivity: Connectivity::Four,
             distance: Vec::new(),
+            unvisited: Vec::new(),
             frontier: Fifo::default(),
             sources: Vec::new(),
             buckets: Default::default(),
@@ -151,7 +180,6 @@ impl DistanceField {
                 BLOCKED_DISTANCE
             }
         }));
-        self.frontier.clear();
         for list in self.buckets.iter_mut().flatten() {
             list.clear();
         }
@@ -165,32 +193,38 @@ impl DistanceField {
             }
             self.distance[i] = 0.0;
             self.sources.push(s);
-            match connectivity {
-                Connectivity::Four => self.frontier.push(i as u32),
-                Connectivity::Eight => self.buckets[0][SOURCE_MOVE].push(i as u32),
-            }
+            self.buckets[0][SOURCE_MOVE].push(i as u32);
         }
         match connectivity {
-            Connectivity::Four => self.breadth_first(),
+            Connectivity::Four => self.breadth_first(grid),
             Connectivity::Eight => self.bucket_dijkstra(),
         }
     }
 
-    /// Unit-cost breadth-first search: the first time a cell is reached is final.
-    fn breadth_first(&mut self) {
+    /// Unit-cost breadth-first search: the first time a cell is reached is final. Visits are
+    /// marked in a byte copy of the grid, denser in cache than the distances.
+    fn breadth_first(&mut self, grid: &NavGrid) {
         let s = self.stride as isize;
         let offsets = [1isize, s, -1, -s];
+        self.unvisited.clear();
+        self.unvisited.extend_from_slice(grid.cells());
         // Locals, so that the compiler keeps the buffers in registers.
-        let distance = &mut self.distance[..];
+        let (unvisited, distance) = (&mut self.unvisited[..], &mut self.distance[..]);
         let frontier = &mut self.frontier;
+        frontier.clear();
+        for &source in &self.buckets[0][SOURCE_MOVE] {
+            unvisited[source as usize] = 0;
+            frontier.push(source);
+        }
         let mut reached = 0;
         while let Some(cur) = frontier.pop() {
             let cur = cur as usize;
             reached += 1;
             let next_d = distance[cur] + 1.0;
             for &o in &offsets {
-                let next = (cur as isize + o) as usize;
-                if distance[next] == f64::INFINITY {
+                let next = cur.wrapping_add_signed(o);
+                if unvisited[next] == PASSABLE {
+                    unvisited[next] = 0;
                     distance[next] = next_d;
                     frontier.push(next as u32);
                 }
@@ -359,7 +393,9 @@ fn scan_list<const MOVE: usize>(
     after: &mut MoveLists,
 ) -> usize {
     let moves = MOVES_TO_TRY[MOVE];
-    let s = stride;
+    let s = stride as isize;
+    // Padded offsets of the moves in [`usar_world::NEIGHBORS8`] order.
+    let offsets = [1, s, -1, -s, s + 1, s - 1, -s - 1, -s + 1];
     let after_level = level + 2.0;
     let mut reached = 0;
     for &cell in cells {
@@ -369,26 +405,23 @@ fn scan_list<const MOVE: usize>(
         if d < level {
             continue;
         }
-        // The 3 × 3 block around the cell, by rows (south, middle, north).
-        let row = |i: usize| -> [f64; 3] {
-            distance[i - 1..i + 2]
-                .try_into()
-                .unwrap_or([BLOCKED_DISTANCE; 3])
-        };
-        let (south, middle, north) = (row(cur - s), row(cur), row(cur + s));
+        // The neighbours' distances, in move order; only those the moves tried need are read
+        // (the others count as blocked).
+        let old: [f64; 8] = std::array::from_fn(|k| {
+            if NEEDED[MOVE] & (1 << k) != 0 {
+                distance[cur.wrapping_add_signed(offsets[k])]
+            } else {
+                BLOCKED_DISTANCE
+            }
+        });
         // Straight moves land in bucket level + 1. Blocked (negative) and final cells are
         // never lowered.
         let nd = d + 1.0;
-        let straight = [
-            (cur + 1, middle[2]),
-            (cur + s, north[1]),
-            (cur - 1, middle[0]),
-            (cur - s, south[1]),
-        ];
-        for (k, &(i, old)) in straight.iter().enumerate() {
-            if moves & (1 << k) != 0 && nd < old {
+        for k in 0..4 {
+            if moves & (1 << k) != 0 && nd < old[k] {
+                let i = cur.wrapping_add_signed(offsets[k]);
                 distance[i] = nd;
-                reached += usize::from(old == f64::INFINITY);
+                reached += usize::from(old[k] == f64::INFINITY);
                 next[k].push(i as u32);
             }
         }
@@ -400,23 +433,14 @@ fn scan_list<const MOVE: usize>(
         } else {
             &mut *after
         };
-        let (e, n, w, so) = (
-            middle[2] >= 0.0,
-            north[1] >= 0.0,
-            middle[0] >= 0.0,
-            south[1] >= 0.0,
-        );
-        let diagonal = [
-            (cur + s + 1, north[2], e & n),
-            (cur + s - 1, north[0], w & n),
-            (cur - s - 1, south[0], w & so),
-            (cur - s + 1, south[2], e & so),
-        ];
-        for (k, &(i, old, allowed)) in diagonal.iter().enumerate() {
-            if moves & (1 << (k + 4)) != 0 && allowed && nd < old {
+        let free = old.map(|v| v >= 0.0);
+        for k in 4..8 {
+            let (a, b) = DIAGONAL_SIDES[k - 4];
+            if moves & (1 << k) != 0 && free[a] && free[b] && nd < old[k] {
+                let i = cur.wrapping_add_signed(offsets[k]);
                 distance[i] = nd;
-                reached += usize::from(old == f64::INFINITY);
-                target[k + 4].push(i as u32);
+                reached += usize::from(old[k] == f64::INFINITY);
+                target[k].push(i as u32);
             }
         }
     }
