@@ -1,8 +1,8 @@
 //! Passability packed one bit per cell, by padded rows and, transposed, by padded columns: the
 //! straight jumps of jump point search test 64 cells per step with it.
 //!
-//! This is the block-based scanning of Harabor & Grastien 2014 ("Improving Jump Point Search",
-//! §3), under the no-corner-cutting rule of `jump_point.rs`: scanning a line (a row, or a column
+//! This is the block-based scanning of Harabor & Grastien 2014 ("Improving Jump Point Search"),
+//! under the no-corner-cutting rule of `jump_point.rs`: scanning a line (a row, or a column
 //! of the transposed bits) in one direction, a cell stops the jump when it is blocked or when a
 //! cell beside it, on the line above or below, is passable while the cell behind that one is
 //! blocked (a forced neighbour). With `b` the line's bits, `u` and `d` the lines beside it and

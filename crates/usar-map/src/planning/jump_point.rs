@@ -5,7 +5,7 @@
 //! a uniform-cost grid most optimal paths are symmetric: they differ only in the order of the
 //! same moves. JPS keeps one canonical path of each class, *diagonal moves first*, and jumps over
 //! every cell where such a path cannot turn. This module uses the movement model of Harabor &
-//! Grastien 2014 ("Improving Jump Point Search", §2) and of the MovingAI benchmarks: straight
+//! Grastien 2014 ("Improving Jump Point Search") and of the MovingAI benchmarks: straight
 //! moves cost 1, diagonal moves √2 and are allowed only when both orthogonal cells beside them
 //! are passable. Under that model the pruning rules are:
 //!
@@ -22,10 +22,10 @@
 //!   steps diagonally while the move is allowed; at every cell c on the way it runs the two
 //!   straight jumps along its components, and c is a turning point if either finds a jump point.
 //!
-//! As in §4 of the 2014 paper, the diagonal turning points are not put on the open list: the
-//! jump points found from them are generated at once as successors of the jump's origin, with
-//! the parent link "diagonal moves first, then straight moves" (the shape of every segment),
-//! and the diagonal scan goes on. Each segment is expanded back into its cells when the path is
+//! The diagonal turning points are not put on the open list (intermediate jump points pruned):
+//! the jump points found from them are generated at once as successors of the jump's origin,
+//! with the parent link "diagonal moves first, then straight moves" (the shape of every
+//! segment), and the diagonal scan goes on. Each segment is expanded back into its cells when the path is
 //! rebuilt, so the returned path lists every cell, consecutive cells neighbours.
 //!
 //! The jump points form a graph whose edge costs are the segments' octile lengths; A* over them
