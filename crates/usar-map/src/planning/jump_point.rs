@@ -25,8 +25,8 @@
 //! The diagonal turning points are not put on the open list (intermediate jump points pruned):
 //! the jump points found from them are generated at once as successors of the jump's origin,
 //! with the parent link "diagonal moves first, then straight moves" (the shape of every
-//! segment), and the diagonal scan goes on. Each segment is expanded back into its cells when the path is
-//! rebuilt, so the returned path lists every cell, consecutive cells neighbours.
+//! segment), and the diagonal scan goes on. Each segment is expanded back into its cells when
+//! the path is rebuilt, so the returned path lists every cell, consecutive cells neighbours.
 //!
 //! The jump points form a graph whose edge costs are the segments' octile lengths; A* over them
 //! with the consistent octile heuristic returns an optimal path (Harabor & Grastien 2011,
