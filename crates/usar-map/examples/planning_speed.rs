@@ -1,5 +1,7 @@
-//! Times the grid planners on a synthetic 1000×1000 building floor (100 m × 100 m at 0.1 m,
-//! inflated by 0.3 m), corner to corner, and on the MovingAI scenario files.
+//! Times the grid planners corner to corner on two 1000×1000 floors (100 m × 100 m at 0.1 m):
+//! the synthetic building of `bench_grid` (inflated by 0.3 m) and the generated office of
+//! `usar bench` (inflated by the wheeled robot's circumscribed radius); then, optionally, checks
+//! the MovingAI scenario files.
 //!
 //! `cargo run --release -p usar-map --example planning_speed [-- SEED [MOVINGAI_DIR]]`
 //! (the scenario files are checked only when MOVINGAI_DIR is given).
@@ -8,8 +10,11 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use usar_map::planning::bench_grid::{BENCH_INFLATION_M, corner_cells, synthetic_building_walls};
 use usar_map::planning::{
-    Connectivity, DistanceField, GridAStar, NavGrid, check_scenarios, inflate,
+    Connectivity, DistanceField, GridAStar, GridAlgorithm, NavGrid, check_scenarios, inflate,
 };
+use usar_sim::RobotSpec;
+use usar_world::Grid;
+use usar_world::generate::{BuildingParams, generate_office};
 
 /// Timed runs of each step (`PLANNING_SPEED_RUNS` overrides).
 const RUNS: usize = 15;
@@ -38,50 +43,79 @@ fn time<T>(mut f: impl FnMut() -> T) -> (f64, f64, T) {
     )
 }
 
+/// Times A*, jump point search and both distance fields corner to corner on `blocked`.
+fn time_planners(blocked: &Grid<bool>) {
+    let blocked_share = blocked.as_slice().iter().filter(|&&b| b).count() as f64
+        / blocked.as_slice().len().max(1) as f64;
+    let (median, min, grid) = time(|| NavGrid::from_blocked(blocked));
+    println!(
+        "  {:.1}% blocked; NavGrid::from_blocked: median {median:7.2} ms  min {min:7.2} ms",
+        100.0 * blocked_share
+    );
+    let (start, goal) = corner_cells(blocked).expect("a free cell");
+    println!("  corner to corner: {start:?} -> {goal:?}");
+    let mut astar = GridAStar::new();
+    for (connectivity, algorithm) in [
+        (Connectivity::Four, GridAlgorithm::AStar),
+        (Connectivity::Eight, GridAlgorithm::AStar),
+        (Connectivity::Eight, GridAlgorithm::JumpPoint),
+    ] {
+        let (median, min, path) =
+            time(|| astar.plan_with(&grid, start, goal, connectivity, algorithm));
+        let path = path.expect("the floor is connected");
+        println!(
+            "  {algorithm:?} {connectivity:?}: median {median:7.2} ms  min {min:7.2} ms  expanded {:>7}  scanned {:>8}  length {:.6} cells",
+            astar.expanded(),
+            astar.scanned(),
+            path.length_cells
+        );
+    }
+    // A fresh grid packs its cells in bits on the first jump point search.
+    let (median, min, _) = time(|| {
+        let fresh = NavGrid::from_blocked(blocked);
+        astar.plan(&fresh, start, goal, Connectivity::Eight)
+    });
+    println!(
+        "  NavGrid::from_blocked + first JumpPoint Eight (packs bits): median {median:7.2} ms  min {min:7.2} ms"
+    );
+    let mut field = DistanceField::new();
+    for connectivity in [Connectivity::Four, Connectivity::Eight] {
+        let (median, min, _) = time(|| field.compute(&grid, &[start], connectivity));
+        let mut check = GridAStar::new();
+        let a = check
+            .plan_with(&grid, start, goal, connectivity, GridAlgorithm::AStar)
+            .map(|p| p.length_cells);
+        println!(
+            "  DistanceField {connectivity:?}: median {median:7.2} ms  min {min:7.2} ms  reached {:>7}  to goal {:.9} (A* {:.9})",
+            field.reached_count(),
+            field.distance_cells(goal).unwrap_or(f64::NAN),
+            a.unwrap_or(f64::NAN)
+        );
+    }
+}
+
 fn main() {
     let mut args = std::env::args().skip(1);
     let seed: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(1);
     let dir = args.next().map(PathBuf::from);
 
     let walls = synthetic_building_walls(1000, 1000, seed);
+    println!("synthetic building 1000x1000, seed {seed}");
     let (median, min, blocked) = time(|| inflate(&walls, BENCH_INFLATION_M));
-    let blocked_share = blocked.as_slice().iter().filter(|&&b| b).count() as f64 / 1e6;
-    println!(
-        "synthetic building 1000x1000, seed {seed}: {:.1}% blocked after inflation",
-        100.0 * blocked_share
-    );
-    println!("inflate 0.3 m (3 cells):            median {median:7.2} ms  min {min:7.2} ms");
-    let (median, min, _) = time(|| inflate(&walls, 0.5));
-    println!("inflate 0.5 m (5 cells):            median {median:7.2} ms  min {min:7.2} ms");
-    let (median, min, grid) = time(|| NavGrid::from_blocked(&blocked));
-    println!("NavGrid::from_blocked:              median {median:7.2} ms  min {min:7.2} ms");
+    println!("  inflate 0.3 m (3 cells):  median {median:7.2} ms  min {min:7.2} ms");
+    time_planners(&blocked);
 
-    let (start, goal) = corner_cells(&blocked).expect("a free cell");
-    println!("corner to corner: {start:?} -> {goal:?}");
-    let mut astar = GridAStar::new();
-    for connectivity in [Connectivity::Four, Connectivity::Eight] {
-        let (median, min, path) = time(|| astar.plan(&grid, start, goal, connectivity));
-        let path = path.expect("the floor is connected");
-        println!(
-            "GridAStar {connectivity:?}:  median {median:7.2} ms  min {min:7.2} ms  expanded {:>7}  length {:.3} cells",
-            astar.expanded(),
-            path.length_cells
-        );
-    }
-    let mut field = DistanceField::new();
-    for connectivity in [Connectivity::Four, Connectivity::Eight] {
-        let (median, min, _) = time(|| field.compute(&grid, &[start], connectivity));
-        let mut check = GridAStar::new();
-        let a = check
-            .plan(&grid, start, goal, connectivity)
-            .map(|p| p.length_cells);
-        println!(
-            "DistanceField {connectivity:?}: median {median:7.2} ms  min {min:7.2} ms  reached {:>7}  to goal {:.6} (A* {:.6})",
-            field.reached_count(),
-            field.distance_cells(goal).unwrap_or(f64::NAN),
-            a.unwrap_or(f64::NAN)
-        );
-    }
+    let office = generate_office(
+        seed,
+        &BuildingParams {
+            width_m: 100.0,
+            height_m: 100.0,
+            ..BuildingParams::office()
+        },
+    );
+    let radius_m = RobotSpec::wheeled().circumscribed_radius_m();
+    println!("office 100 m x 100 m (usar bench), seed {seed}, inflated by {radius_m:.3} m");
+    time_planners(&inflate(&office.obstacle.map(|&o| o != 0), radius_m));
 
     let Some(dir) = dir else { return };
     let mut scen: Vec<PathBuf> = std::fs::read_dir(&dir)

@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use usar_map::planning::bench_grid::{corner_cells, synthetic_building, synthetic_building_walls};
 use usar_map::planning::{
-    Connectivity, DIAGONAL_COST, DistanceField, GridAStar, GridPath, NavGrid,
+    Connectivity, DIAGONAL_COST, DistanceField, GridAStar, GridAlgorithm, GridPath, NavGrid,
     check_scenario_sample, check_scenarios, graph_astar, inflate,
 };
 use usar_world::{Cell, Grid, GridGeometry, Point2};
@@ -91,7 +91,8 @@ fn open_list_never_falls_back_on_the_room_and_maze_maps() {
             for connectivity in BOTH {
                 let start = map.cell_of(s.start.0, s.start.1);
                 let goal = map.cell_of(s.goal.0, s.goal.1);
-                assert!(astar.plan(&grid, start, goal, connectivity).is_some());
+                let plain = astar.plan_with(&grid, start, goal, connectivity, GridAlgorithm::AStar);
+                assert!(plain.is_some());
                 assert_eq!(astar.fallback_pushes(), 0);
             }
         }
@@ -303,6 +304,49 @@ fn reference_distance(
     graph_astar(&from, successors, |_| 0.0, |c| *c == to).map(|(_, cost)| cost)
 }
 
+/// Reference: a textbook Dijkstra with a binary heap over every cell, 8-connected, no corner
+/// cutting, from several sources (independent of the planners' bucket queues). Distances by
+/// [`GridGeometry::index`], `INFINITY` where unreachable.
+fn reference_field(grid: &NavGrid, sources: &[Cell]) -> Vec<f64> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let g = *grid.geometry();
+    let mut dist = vec![f64::INFINITY; g.len()];
+    // Keys as the exact bit patterns of non-negative f64 (ordered like the values).
+    let mut heap = BinaryHeap::new();
+    for &s in sources {
+        if grid.is_passable(s) {
+            dist[g.index(s)] = 0.0;
+            heap.push(Reverse((0u64, s.col, s.row)));
+        }
+    }
+    while let Some(Reverse((bits, col, row))) = heap.pop() {
+        let d = f64::from_bits(bits);
+        let c = Cell::new(col, row);
+        if d > dist[g.index(c)] {
+            continue;
+        }
+        for (dc, dr) in usar_world::NEIGHBORS8 {
+            let n = Cell::new(col + dc, row + dr);
+            let diagonal = dc != 0 && dr != 0;
+            if !grid.is_passable(n)
+                || (diagonal
+                    && !(grid.is_passable(Cell::new(col + dc, row))
+                        && grid.is_passable(Cell::new(col, row + dr))))
+            {
+                continue;
+            }
+            let nd = d + if diagonal { DIAGONAL_COST } else { 1.0 };
+            let slot = &mut dist[g.index(n)];
+            if nd < *slot {
+                *slot = nd;
+                heap.push(Reverse((nd.to_bits(), n.col, n.row)));
+            }
+        }
+    }
+    dist
+}
+
 fn grid_strategy() -> impl Strategy<Value = (NavGrid, Cell, Cell)> {
     (1u32..14, 1u32..14, 0.0f64..0.45).prop_flat_map(|(w, h, density)| {
         let cells = (w * h) as usize;
@@ -323,6 +367,38 @@ fn grid_strategy() -> impl Strategy<Value = (NavGrid, Cell, Cell)> {
 
 const BOTH: [Connectivity; 2] = [Connectivity::Four, Connectivity::Eight];
 
+/// Larger random grids for jump point search: rooms-like blocks and scattered cells, with a
+/// density from open floor to nearly closed, and start and goal anywhere.
+fn jump_grid_strategy() -> impl Strategy<Value = (NavGrid, Cell, Cell)> {
+    (1u32..100, 1u32..70, 0.0f64..0.5, 0usize..6).prop_flat_map(|(w, h, density, walls)| {
+        let cells = (w * h) as usize;
+        (
+            proptest::collection::vec(proptest::bool::weighted(density), cells),
+            proptest::collection::vec((0..w as i32, 0..h as i32, any::<bool>(), 1i32..80), walls),
+            0..w as i32,
+            0..h as i32,
+            0..w as i32,
+            0..h as i32,
+        )
+            .prop_map(move |(blocked, walls, c0, r0, c1, r1)| {
+                let g = GridGeometry::new(w, h, 0.1, Point2::new(0.0, 0.0));
+                let mut grid = NavGrid::from_blocked(&Grid::from_vec(g, blocked).unwrap());
+                // Straight walls make corridors and rooms, where jumps are long.
+                for (c, r, horizontal, len) in walls {
+                    for k in 0..len {
+                        let cell = if horizontal {
+                            Cell::new(c + k, r)
+                        } else {
+                            Cell::new(c, r + k)
+                        };
+                        grid.set_passable(cell, false);
+                    }
+                }
+                (grid, Cell::new(c0, r0), Cell::new(c1, r1))
+            })
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
@@ -330,7 +406,8 @@ proptest! {
     fn astar_paths_are_valid_and_optimal((grid, start, goal) in grid_strategy()) {
         let mut astar = GridAStar::new();
         for connectivity in BOTH {
-            let planned = astar.plan(&grid, start, goal, connectivity);
+            let planned =
+                astar.plan_with(&grid, start, goal, connectivity, GridAlgorithm::AStar);
             let reference = reference_distance(&grid, start, goal, connectivity);
             prop_assert_eq!(planned.is_some(), reference.is_some());
             if let (Some(path), Some(best)) = (planned, reference) {
@@ -342,6 +419,70 @@ proptest! {
             }
             // The open list's step classes cover every move (no fallback to the heap).
             prop_assert_eq!(astar.fallback_pushes(), 0);
+        }
+    }
+
+    #[test]
+    fn jump_point_search_lengths_equal_plain_astar_and_paths_are_valid(
+        (grid, start, goal) in jump_grid_strategy(),
+    ) {
+        let mut jps = GridAStar::new();
+        let mut plain = GridAStar::new();
+        let expected =
+            plain.plan_with(&grid, start, goal, Connectivity::Eight, GridAlgorithm::AStar);
+        let planned =
+            jps.plan_with(&grid, start, goal, Connectivity::Eight, GridAlgorithm::JumpPoint);
+        prop_assert_eq!(planned.is_some(), expected.is_some());
+        if let (Some(path), Some(best)) = (planned, expected) {
+            // Every cell listed, none blocked, no corner cut, length the sum of its steps.
+            assert_valid_path(&grid, &path, Connectivity::Eight);
+            prop_assert_eq!(path.cells.first(), Some(&start));
+            prop_assert_eq!(path.cells.last(), Some(&goal));
+            prop_assert!(
+                (path.length_cells - best.length_cells).abs() < 1e-9,
+                "JPS {} vs A* {}", path.length_cells, best.length_cells
+            );
+            let independent = reference_field(&grid, &[start])[grid.geometry().index(goal)];
+            prop_assert!((path.length_cells - independent).abs() < 1e-9);
+            // `plan` runs jump point search for 8-connected planning.
+            prop_assert_eq!(jps.plan(&grid, start, goal, Connectivity::Eight), Some(path));
+        }
+    }
+
+    #[test]
+    fn eight_connected_field_equals_an_independent_dijkstra_on_larger_grids(
+        (grid, a, b) in jump_grid_strategy(),
+    ) {
+        let g = *grid.geometry();
+        let sources = [a, b];
+        let reference = reference_field(&grid, &sources);
+        let mut field = DistanceField::new();
+        field.compute(&grid, &sources, Connectivity::Eight);
+        let mut reachable = 0;
+        for row in 0..g.height as i32 {
+            for col in 0..g.width as i32 {
+                let cell = Cell::new(col, row);
+                let expected = reference[g.index(cell)];
+                let d = field.distance_cells(cell);
+                prop_assert_eq!(d.is_some(), expected.is_finite(), "{:?}", cell);
+                if let Some(d) = d {
+                    reachable += 1;
+                    prop_assert!((d - expected).abs() < 1e-9, "{:?}: {} vs {}", cell, d, expected);
+                }
+            }
+        }
+        prop_assert_eq!(field.reached_count(), reachable);
+        // The descent from the farthest cell reaches a source along a valid shortest path.
+        let far = field
+            .to_grid()
+            .iter_cells()
+            .filter(|(_, d)| d.is_finite())
+            .max_by(|x, y| x.1.total_cmp(y.1))
+            .map(|(c, _)| c);
+        if let Some(far) = far {
+            let path = field.path_to_source(far).unwrap();
+            assert_valid_path(&grid, &path, Connectivity::Eight);
+            prop_assert!(sources.contains(path.cells.last().unwrap()));
         }
     }
 
@@ -574,10 +715,81 @@ fn tie_breaking_toward_larger_g_walks_straight_to_the_goal_on_an_open_floor() {
     assert_eq!(four.length_cells, 349.0);
     // Every cell with f = 349 ties; preferring larger g expands only the path.
     assert_eq!(astar.expanded(), four.cells.len());
-    let eight = astar.plan(&grid, a, b, Connectivity::Eight).unwrap();
+    let eight = astar
+        .plan_with(&grid, a, b, Connectivity::Eight, GridAlgorithm::AStar)
+        .unwrap();
     assert!((eight.length_cells - (49.0 + 150.0 * DIAGONAL_COST)).abs() < 1e-9);
     assert_eq!(astar.expanded(), eight.cells.len());
     assert!((four.length_m(0.1) - 34.9).abs() < 1e-9);
+    // Jump point search: the start, the goal (found by the first diagonal scan's straight
+    // jumps), nothing else.
+    let jps = astar.plan(&grid, a, b, Connectivity::Eight).unwrap();
+    assert!((jps.length_cells - eight.length_cells).abs() < 1e-9);
+    assert_eq!(jps.cells.len(), eight.cells.len());
+    assert_eq!(astar.expanded(), 2);
+    assert!(astar.scanned() > 0);
+}
+
+#[test]
+fn jump_point_search_sees_cells_changed_after_an_earlier_search() {
+    // The packed bits of a grid are rebuilt after `set_passable`: a wall put across the first
+    // path is walked around, and taking it away again restores the straight path.
+    let g = GridGeometry::new(130, 40, 0.1, Point2::new(0.0, 0.0));
+    let mut grid = NavGrid::from_fn(g, |_| false);
+    let mut astar = GridAStar::new();
+    let (a, b) = (Cell::new(2, 20), Cell::new(127, 20));
+    let straight = astar.plan(&grid, a, b, Connectivity::Eight).unwrap();
+    assert_eq!(straight.length_cells, 125.0);
+    for row in 0..35 {
+        grid.set_passable(Cell::new(70, row), false);
+    }
+    let around = astar.plan(&grid, a, b, Connectivity::Eight).unwrap();
+    assert_valid_path(&grid, &around, Connectivity::Eight);
+    let expected = astar
+        .plan_with(&grid, a, b, Connectivity::Eight, GridAlgorithm::AStar)
+        .unwrap();
+    assert!((around.length_cells - expected.length_cells).abs() < 1e-9);
+    assert!(around.length_cells > 135.0);
+    for row in 0..35 {
+        grid.set_passable(Cell::new(70, row), true);
+    }
+    assert_eq!(astar.plan(&grid, a, b, Connectivity::Eight), Some(straight));
+}
+
+#[test]
+fn jump_point_search_and_plain_astar_agree_on_the_synthetic_building() {
+    // Long corridors, doors and furniture over 64-cell words of the packed rows and columns.
+    let blocked = synthetic_building(300, 260, 3);
+    let grid = NavGrid::from_blocked(&blocked);
+    let (start, goal) = corner_cells(&blocked).unwrap();
+    let mut jps = GridAStar::new();
+    let mut plain = GridAStar::new();
+    let mut field = DistanceField::new();
+    field.compute(&grid, &[start], Connectivity::Eight);
+    let g = *grid.geometry();
+    for k in 0..40 {
+        // Goals spread over the floor (every passable cell is reachable from the start).
+        let goal = if k == 0 {
+            goal
+        } else {
+            Cell::new((k * 7919) % g.width as i32, (k * 104_729) % g.height as i32)
+        };
+        let expected = plain.plan_with(
+            &grid,
+            start,
+            goal,
+            Connectivity::Eight,
+            GridAlgorithm::AStar,
+        );
+        let found = jps.plan(&grid, start, goal, Connectivity::Eight);
+        assert_eq!(found.is_some(), expected.is_some(), "{goal:?}");
+        if let (Some(p), Some(e)) = (found, expected) {
+            assert_valid_path(&grid, &p, Connectivity::Eight);
+            assert!((p.length_cells - e.length_cells).abs() < 1e-9, "{goal:?}");
+            assert!((field.distance_cells(goal).unwrap() - p.length_cells).abs() < 1e-9);
+            assert!(jps.expanded() < plain.expanded(), "{goal:?}");
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

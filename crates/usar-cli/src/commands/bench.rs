@@ -9,7 +9,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 use std::time::Instant;
-use usar_map::planning::{Connectivity, DistanceField, GridAStar, NavGrid, inflate};
+use usar_map::planning::{Connectivity, DistanceField, GridAStar, GridAlgorithm, NavGrid, inflate};
 use usar_map::{FrontierTracker, OccupancyGrid, OccupancyParams};
 use usar_sim::RobotSpec;
 use usar_sim::sensors::{LaserModel, LaserScan, LaserSpec, SensingWorld};
@@ -22,8 +22,15 @@ struct BenchReport {
     lidar_scans_per_s: f64,
     astar4_ms: f64,
     astar4_expanded: usize,
+    /// 8-connected planning as `GridAStar::plan` does it: jump point search.
     astar8_ms: f64,
+    /// Jump points expanded.
     astar8_expanded: usize,
+    /// Cells the jumps stepped over.
+    astar8_scanned: usize,
+    /// Plain 8-connected A*, for comparison.
+    astar8_plain_ms: f64,
+    astar8_plain_expanded: usize,
     path_length_m: f64,
     distance_field_ms: f64,
     distance_field4_ms: f64,
@@ -168,14 +175,15 @@ pub fn run(args: BenchArgs) -> CmdResult {
     let (start, goal) = corners(&nav);
     let mut astar = GridAStar::new();
     let mut path_length_m = 0.0;
-    let mut plan = |conn| {
+    let mut scanned = 0;
+    let mut plan = |conn, algorithm| {
         let mut expanded = 0;
         let ms = median(
             (0..reps)
                 .map(|_| {
                     time_ms(|| {
                         let p = astar
-                            .plan(&nav, start, goal, conn)
+                            .plan_with(&nav, start, goal, conn, algorithm)
                             .expect("corners are connected");
                         path_length_m = p.length_m(g.resolution_m);
                     })
@@ -183,10 +191,13 @@ pub fn run(args: BenchArgs) -> CmdResult {
                 .collect(),
         );
         expanded = expanded.max(astar.expanded());
+        scanned = astar.scanned();
         (ms, expanded)
     };
-    let (astar4_ms, astar4_expanded) = plan(Connectivity::Four);
-    let (astar8_ms, astar8_expanded) = plan(Connectivity::Eight);
+    let (astar4_ms, astar4_expanded) = plan(Connectivity::Four, GridAlgorithm::AStar);
+    let (astar8_plain_ms, astar8_plain_expanded) = plan(Connectivity::Eight, GridAlgorithm::AStar);
+    let (astar8_ms, astar8_expanded) = plan(Connectivity::Eight, GridAlgorithm::JumpPoint);
+    let astar8_scanned = scanned;
     bar.inc(1);
     let mut field = DistanceField::new();
     let distance_field_ms = median(
@@ -234,6 +245,9 @@ pub fn run(args: BenchArgs) -> CmdResult {
         astar4_expanded,
         astar8_ms,
         astar8_expanded,
+        astar8_scanned,
+        astar8_plain_ms,
+        astar8_plain_expanded,
         path_length_m,
         distance_field_ms,
         distance_field4_ms,
@@ -260,8 +274,12 @@ pub fn run(args: BenchArgs) -> CmdResult {
             report.astar4_ms, report.astar4_expanded
         );
         println!(
-            "  A* 8-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)",
-            report.astar8_ms, report.astar8_expanded
+            "  A* 8-connected corner to corner {:>10.2} ms       (target ≤ 10; jump point search: {} expanded, {} cells scanned)",
+            report.astar8_ms, report.astar8_expanded, report.astar8_scanned
+        );
+        println!(
+            "  plain A* 8-connected            {:>10.2} ms       ({} expanded)",
+            report.astar8_plain_ms, report.astar8_plain_expanded
         );
         println!(
             "  distance field, 8-connected     {:>10.2} ms       (target ≤ 10)",

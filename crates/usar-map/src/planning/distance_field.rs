@@ -1,43 +1,112 @@
 //! A distance field: one multi-source search that prices every cell at once (the distance to the
 //! nearest source, e.g. a robot, or a frontier), with the path back to that source.
 //!
-//! Both connectivities are *exact* Dijkstra searches in O(cells), with no priority queue:
-//! every edge costs either 1 (straight) or √2 (diagonal), so the search keeps one FIFO queue per
-//! edge cost. A cell settled at distance d pushes its neighbours with keys d + 1 and d + √2 onto
-//! the two queues; since cells are settled in non-decreasing d, each queue receives
-//! non-decreasing keys and is therefore sorted, and the least open key is the smaller of the two
-//! queue heads. This is Dijkstra's algorithm with a monotone multi-queue (the "few distinct edge
-//! lengths" case of Dial 1969 / Ahuja, Mehlhorn, Orlin & Tarjan 1990), so no fixed-point rounding
-//! is needed: the distances are the same f64 sums of 1 and √2 that [`super::GridAStar`]
-//! computes, equal to A*'s lengths up to the rounding of the summation order (< 1e-9 cells on
-//! any grid below 10⁶ cells a side). With [`Connectivity::Four`] only one queue is used and the
-//! search is a breadth-first search with unit costs.
+//! Both connectivities are *exact* Dijkstra searches in O(cells), with no priority queue.
+//! [`Connectivity::Four`] is a breadth-first search (unit costs).
 //!
-//! Diagonal moves follow the same rule as A*: only when both orthogonal cells are passable.
+//! [`Connectivity::Eight`] (straight moves 1, diagonal moves √2) keeps a bucket queue of width 1,
+//! the least edge cost (Dial 1969; the Δ-stepping argument of Meyer & Sanders 2003 with Δ = the
+//! least edge weight): bucket k holds the cells whose tentative distance lies in [k, k + 1). A
+//! cell relaxed from a cell of bucket k gets a distance ≥ k + 1, so no cell of bucket k can lower
+//! another one: once the buckets below k are done, every cell of bucket k is final, in whatever
+//! order the bucket is scanned. Moves reach only buckets k + 1 and k + 2 (√2 < 2), so three
+//! buckets are reused in turn. A queued entry holds no key, only the cell; one whose cell has
+//! since dropped into an earlier bucket is stale and skipped.
 //!
-//! Only the distance (8 bytes) and a state byte are kept per cell, so that the search touches
-//! as little memory as possible; paths back to a source are found by steepest descent: from a
+//! Each bucket keeps one list per move that queued the cell, and each list is scanned by code
+//! specialised to that move, which tries only the moves of [`MOVES_TO_TRY`]: from a cell reached
+//! by a straight move, five moves; by a diagonal one, three (the others provably cannot lower a
+//! distance). Half the neighbour tests of a plain scan, each with fewer mispredicted branches.
+//! A cell lowered again inside its bucket by another move is queued again under that move, so
+//! the moves of its final one are always tried (a repeat scan lowers nothing).
+//!
+//! The distances are the same f64 sums of 1 and √2 that [`super::GridAStar`] computes, equal to
+//! A*'s lengths up to the rounding of the summation order (< 1e-9 cells on any grid below 10⁶
+//! cells a side). Diagonal moves follow the same rule as A*: only when both orthogonal cells are
+//! passable.
+//!
+//! Only the distance (8 bytes) is kept per cell, with blocked cells marked by a negative value
+//! and unreached ones by infinity, so the search reads one array: a neighbour is lowered exactly
+//! when its new distance is below its stored one, which is never true of a blocked cell
+//! (negative) nor of a final one. Paths back to a source are found by steepest descent: from a
 //! cell of distance d, step to the first neighbour (in [`usar_world::NEIGHBORS8`] order) whose
 //! distance plus the move's cost is d. The cell the search reached it from qualifies (its
 //! distance was summed exactly so), so the descent always reaches a source along a shortest path.
 
 use super::grid_astar::{Connectivity, DIAGONAL_COST, GridPath, MAX_CELLS};
-use super::nav_grid::{BLOCKED, NavGrid, PASSABLE};
-
+use super::nav_grid::{NavGrid, PASSABLE};
 use super::open_list::Fifo;
+
 use usar_world::{Cell, Grid, GridGeometry, NEIGHBORS8, Point2};
 
 /// Relative tolerance of the descent's test d(next) + cost = d(cell): the distances are exact
 /// sums, so this only absorbs a different summation order.
 const DESCENT_TOLERANCE: f64 = 1e-12;
 
-/// Search state of a cell: passable and not reached yet. The state buffer starts as a copy of
-/// the grid, so blocked cells hold 0 and free ones this value.
-const UNREACHED: u8 = PASSABLE;
-/// Search state of a cell: reached, its distance may still fall ([`Connectivity::Eight`]).
-const OPEN: u8 = 2;
-/// Search state of a cell: its distance is final.
-const SETTLED: u8 = 3;
+/// Stored distance of a blocked cell (any negative value: no new distance is below it).
+const BLOCKED_DISTANCE: f64 = -1.0;
+
+/// The list of a bucket holding sources, from which every move is tried.
+const SOURCE_MOVE: usize = 8;
+
+/// The lists of one bucket: cells by the move that queued them (index in
+/// [`usar_world::NEIGHBORS8`]), index [`SOURCE_MOVE`] for the sources.
+type MoveLists = [Vec<u32>; 9];
+
+/// The moves worth trying from a cell, as bit masks over the move indices of
+/// [`usar_world::NEIGHBORS8`] (bits 0–3 east, north, west, south; 4–7 north-east, north-west,
+/// south-west, south-east), by the move that gave the cell its distance (index 8: a source).
+///
+/// A neighbour v is left out when a cell with a smaller distance is bound to offer v a distance
+/// below the one this cell would (by at least 2 − √2, far above rounding), so trying it could
+/// never succeed. For a cell u reached from its parent p:
+/// * by a straight move (east, say): p itself, and p's north and south neighbours, which p
+///   reaches by one straight move (d(p) + 1 = d(u) < d(u) + √2);
+/// * by a diagonal move (north-east, say): p; the west and south neighbours of u, which are p's
+///   north and east neighbours (passable, or the diagonal move were not allowed) at
+///   d(p) + 1 < d(p) + √2 + 1; and u's north-west and south-east neighbours, two straight moves
+///   from p (d(p) + 2 < d(p) + 2√2).
+///
+/// The cells offering the bound have smaller distances, so they were scanned in an earlier
+/// bucket (any move costs at least 1) and either tried the move or left it out for the same
+/// reason, by induction on the distance. Only the moves ahead remain: five after a straight
+/// move, three after a diagonal one.
+const MOVES_TO_TRY: [u32; 9] = [
+    0b1001_1011, // east: E, N, S, NE, SE
+    0b0011_0111, // north: E, N, W, NE, NW
+    0b0110_1110, // west: N, W, S, NW, SW
+    0b1100_1101, // south: E, W, S, SW, SE
+    0b0001_0011, // north-east: E, N, NE
+    0b0010_0110, // north-west: N, W, NW
+    0b0100_1100, // south-west: W, S, SW
+    0b1000_1001, // south-east: E, S, SE
+    0b1111_1111, // a source: all
+];
+
+/// The two straight moves beside each diagonal move (north-east: east and north, …), whose
+/// cells must be passable for it.
+const DIAGONAL_SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
+
+/// The neighbours whose distances a scan of the list of each move reads: the moves it tries and
+/// the cells beside its diagonal ones.
+const NEEDED: [u32; 9] = {
+    let mut needed = [0; 9];
+    let mut m = 0;
+    while m < 9 {
+        let moves = MOVES_TO_TRY[m];
+        needed[m] = moves;
+        let mut k = 4;
+        while k < 8 {
+            if moves & (1 << k) != 0 {
+                let (a, b) = DIAGONAL_SIDES[k - 4];
+                needed[m] |= (1 << a) | (1 << b);
+            }
+            k += 1;
+        }
+        m += 1;
+    }
+    needed
+};
 
 /// Distances from a set of source cells to every cell of a [`NavGrid`].
 ///
@@ -48,19 +117,20 @@ pub struct DistanceField {
     geometry: GridGeometry,
     stride: usize,
     connectivity: Connectivity,
-    /// Distance to the nearest source, cells, per padded cell; meaningful where `state` is
-    /// [`SETTLED`] (or [`OPEN`] during the search).
+    /// Per padded cell: distance to the nearest source in cells once reached, `INFINITY` if
+    /// passable and unreached, [`BLOCKED_DISTANCE`] if blocked. Empty when nothing was computed
+    /// (or the grid was too large).
     distance: Vec<f64>,
-    /// 0 (blocked), [`UNREACHED`], [`OPEN`] or [`SETTLED`] per padded cell.
-    state: Vec<u8>,
     /// The passable sources, in the order given.
     sources: Vec<Cell>,
+    /// Per padded cell, [`PASSABLE`] while not reached by the breadth-first search
+    /// ([`Connectivity::Four`]); a dense copy of the grid that keeps its tests in cache.
+    unvisited: Vec<u8>,
     /// Breadth-first queue ([`Connectivity::Four`]).
     frontier: Fifo<u32>,
-    /// Cells opened by a straight move, with their distance (sorted by it).
-    straight_queue: Fifo<(f64, u32)>,
-    /// Cells opened by a diagonal move, with their distance (sorted by it).
-    diagonal_queue: Fifo<(f64, u32)>,
+    /// The three buckets in use ([`Connectivity::Eight`]): the one being scanned, the next one
+    /// and the one after it.
+    buckets: [MoveLists; 3],
     reached: usize,
 }
 
@@ -78,11 +148,10 @@ impl DistanceField {
             stride: 2,
             connectivity: Connectivity::Four,
             distance: Vec::new(),
-            state: Vec::new(),
+            unvisited: Vec::new(),
             frontier: Fifo::default(),
             sources: Vec::new(),
-            straight_queue: Fifo::default(),
-            diagonal_queue: Fifo::default(),
+            buckets: Default::default(),
             reached: 0,
         }
     }
@@ -90,71 +159,72 @@ impl DistanceField {
     /// Prices every cell of `grid` by its distance to the nearest of `sources`.
     ///
     /// Sources that are blocked or outside the grid are ignored; with no usable source (or on a
-    /// grid of more than 2³² − 1 padded cells) every cell is unreachable. Ties between sources at equal distance go to the one listed first among
-    /// those reaching the cell first (deterministic).
+    /// grid of more than 2³² − 1 padded cells) every cell is unreachable. Duplicate sources
+    /// count once.
     pub fn compute(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
         let len = grid.cells().len();
         self.geometry = *grid.geometry();
         self.stride = grid.stride();
         self.connectivity = connectivity;
-        self.state.clear();
+        self.distance.clear();
         self.sources.clear();
         self.reached = 0;
         if len > MAX_CELLS {
-            // Nothing is reachable: `index` finds no state for any cell.
+            // Nothing is reachable: `index` finds no distance for any cell.
             return;
         }
-        self.state.extend_from_slice(grid.cells());
-        if self.distance.len() < len {
-            self.distance.resize(len, f64::INFINITY);
+        self.distance.extend(grid.cells().iter().map(|&c| {
+            if c == PASSABLE {
+                f64::INFINITY
+            } else {
+                BLOCKED_DISTANCE
+            }
+        }));
+        for list in self.buckets.iter_mut().flatten() {
+            list.clear();
         }
-        self.sources.clear();
-        self.frontier.clear();
-        self.straight_queue.clear();
-        self.diagonal_queue.clear();
-        self.reached = 0;
-
         for &s in sources {
             if !grid.is_passable(s) {
                 continue;
             }
             let i = grid.padded_index(s);
-            if self.state[i] != UNREACHED {
+            if self.distance[i] == 0.0 {
                 continue;
             }
-            self.state[i] = match connectivity {
-                Connectivity::Four => SETTLED,
-                Connectivity::Eight => OPEN,
-            };
             self.distance[i] = 0.0;
             self.sources.push(s);
-            match connectivity {
-                Connectivity::Four => self.frontier.push(i as u32),
-                Connectivity::Eight => self.straight_queue.push((0.0, i as u32)),
-            }
+            self.buckets[0][SOURCE_MOVE].push(i as u32);
         }
         match connectivity {
-            Connectivity::Four => self.breadth_first(),
-            Connectivity::Eight => self.two_queue_dijkstra(grid),
+            Connectivity::Four => self.breadth_first(grid),
+            Connectivity::Eight => self.bucket_dijkstra(),
         }
     }
 
-    /// Unit-cost breadth-first search: the first time a cell is reached is final.
-    fn breadth_first(&mut self) {
+    /// Unit-cost breadth-first search: the first time a cell is reached is final. Visits are
+    /// marked in a byte copy of the grid, denser in cache than the distances.
+    fn breadth_first(&mut self, grid: &NavGrid) {
         let s = self.stride as isize;
         let offsets = [1isize, s, -1, -s];
+        self.unvisited.clear();
+        self.unvisited.extend_from_slice(grid.cells());
         // Locals, so that the compiler keeps the buffers in registers.
-        let (state, distance) = (&mut self.state[..], &mut self.distance[..]);
+        let (unvisited, distance) = (&mut self.unvisited[..], &mut self.distance[..]);
         let frontier = &mut self.frontier;
+        frontier.clear();
+        for &source in &self.buckets[0][SOURCE_MOVE] {
+            unvisited[source as usize] = 0;
+            frontier.push(source);
+        }
         let mut reached = 0;
         while let Some(cur) = frontier.pop() {
             let cur = cur as usize;
             reached += 1;
             let next_d = distance[cur] + 1.0;
             for &o in &offsets {
-                let next = (cur as isize + o) as usize;
-                if state[next] == UNREACHED {
-                    state[next] = SETTLED;
+                let next = cur.wrapping_add_signed(o);
+                if unvisited[next] == PASSABLE {
+                    unvisited[next] = 0;
                     distance[next] = next_d;
                     frontier.push(next as u32);
                 }
@@ -163,65 +233,35 @@ impl DistanceField {
         self.reached = reached;
     }
 
-    /// Exact Dijkstra with one sorted FIFO queue per edge cost (1 and √2).
-    fn two_queue_dijkstra(&mut self, grid: &NavGrid) {
-        let cells = grid.cells();
-        let s = self.stride as isize;
-        let straight = [1isize, s, -1, -s];
-        // (offset, the two orthogonal cells the diagonal passes)
-        let diagonal = [
-            (s + 1, 1, s),
-            (s - 1, -1, s),
-            (-s - 1, -1, -s),
-            (-s + 1, 1, -s),
-        ];
-        let (state, distance) = (&mut self.state[..], &mut self.distance[..]);
-        let (straight_queue, diagonal_queue) = (&mut self.straight_queue, &mut self.diagonal_queue);
-        let mut reached = 0;
-        loop {
-            let from_straight = match (straight_queue.front(), diagonal_queue.front()) {
-                (None, None) => break,
-                (Some(_), None) => true,
-                (None, Some(_)) => false,
-                (Some(a), Some(b)) => a.0 <= b.0,
-            };
-            let queue = if from_straight {
-                &mut *straight_queue
-            } else {
-                &mut *diagonal_queue
-            };
-            let Some((d, cur)) = queue.pop() else { break };
-            let cur = cur as usize;
-            // A cell is queued again only with a strictly smaller distance, so exactly one of its
-            // entries carries its final distance: the others are stale.
-            if state[cur] != OPEN || d > distance[cur] {
-                continue;
+    /// Exact Dijkstra with a bucket queue of width 1, one list per move (see the module
+    /// documentation).
+    fn bucket_dijkstra(&mut self) {
+        let stride = self.stride;
+        let distance = &mut self.distance[..];
+        let [b0, b1, b2] = &mut self.buckets;
+        // The bucket being scanned, the next one and the one after it.
+        let (mut current, mut next, mut after) = (b0, b1, b2);
+        let mut reached = current[SOURCE_MOVE].len();
+        let mut level = 0.0;
+        while [&*current, &*next, &*after]
+            .iter()
+            .any(|bucket| bucket.iter().any(|list| !list.is_empty()))
+        {
+            let (c, n, a) = (&*current, &mut *next, &mut *after);
+            reached += scan_list::<0>(&c[0], distance, stride, level, n, a);
+            reached += scan_list::<1>(&c[1], distance, stride, level, n, a);
+            reached += scan_list::<2>(&c[2], distance, stride, level, n, a);
+            reached += scan_list::<3>(&c[3], distance, stride, level, n, a);
+            reached += scan_list::<4>(&c[4], distance, stride, level, n, a);
+            reached += scan_list::<5>(&c[5], distance, stride, level, n, a);
+            reached += scan_list::<6>(&c[6], distance, stride, level, n, a);
+            reached += scan_list::<7>(&c[7], distance, stride, level, n, a);
+            reached += scan_list::<SOURCE_MOVE>(&c[SOURCE_MOVE], distance, stride, level, n, a);
+            for list in current.iter_mut() {
+                list.clear();
             }
-            state[cur] = SETTLED;
-            reached += 1;
-            let next_d = d + 1.0;
-            for &o in &straight {
-                let next = (cur as isize + o) as usize;
-                let st = state[next];
-                if st == UNREACHED || (st == OPEN && next_d < distance[next]) {
-                    state[next] = OPEN;
-                    distance[next] = next_d;
-                    straight_queue.push((next_d, next as u32));
-                }
-            }
-            let next_d = d + DIAGONAL_COST;
-            for &(o, a, b) in &diagonal {
-                let next = (cur as isize + o) as usize;
-                let st = state[next];
-                if (st == UNREACHED || (st == OPEN && next_d < distance[next]))
-                    && cells[(cur as isize + a) as usize] == PASSABLE
-                    && cells[(cur as isize + b) as usize] == PASSABLE
-                {
-                    state[next] = OPEN;
-                    distance[next] = next_d;
-                    diagonal_queue.push((next_d, next as u32));
-                }
-            }
+            (current, next, after) = (next, after, current);
+            level += 1.0;
         }
         self.reached = reached;
     }
@@ -246,11 +286,12 @@ impl DistanceField {
         self.reached
     }
 
+    /// Padded index of a reached cell.
     fn index(&self, cell: Cell) -> Option<usize> {
         self.geometry
             .contains(cell)
             .then(|| (cell.row as usize + 1) * self.stride + cell.col as usize + 1)
-            .filter(|&i| self.state.get(i) == Some(&SETTLED))
+            .filter(|&i| self.distance.get(i).is_some_and(|&d| reached(d)))
     }
 
     /// Distance in cells from `cell` to its nearest source; `None` when unreachable or outside.
@@ -278,7 +319,7 @@ impl DistanceField {
         let length_cells = self.distance[i];
         let s = self.stride as isize;
         let eight = self.connectivity == Connectivity::Eight;
-        let passable = |j: isize| self.state[j as usize] != BLOCKED;
+        let passable = |j: isize| self.distance[j as usize] >= 0.0;
         let mut cells = vec![self.cell_of_padded(i)];
         while self.distance[i] > 0.0 {
             let d = self.distance[i];
@@ -290,7 +331,7 @@ impl DistanceField {
                     break;
                 }
                 let next = here + dc as isize + dr as isize * s;
-                if self.state[next as usize] != SETTLED
+                if !reached(self.distance[next as usize])
                     || (diagonal
                         && !(passable(here + dc as isize) && passable(here + dr as isize * s)))
                 {
@@ -320,13 +361,11 @@ impl DistanceField {
         let g = self.geometry;
         let mut out = Grid::filled(g, f64::INFINITY);
         let w = g.width as usize;
-        if w > 0 && !self.state.is_empty() {
+        if w > 0 && !self.distance.is_empty() {
             for (row, dst) in out.as_mut_slice().chunks_exact_mut(w).enumerate() {
                 let start = (row + 1) * self.stride + 1;
-                let states = &self.state[start..start + w];
-                let distances = &self.distance[start..start + w];
-                for ((d, &st), &dist) in dst.iter_mut().zip(states).zip(distances) {
-                    if st == SETTLED {
+                for (d, &dist) in dst.iter_mut().zip(&self.distance[start..start + w]) {
+                    if reached(dist) {
                         *d = dist;
                     }
                 }
@@ -338,6 +377,80 @@ impl DistanceField {
     fn cell_of_padded(&self, i: usize) -> Cell {
         Cell::new((i % self.stride) as i32 - 1, (i / self.stride) as i32 - 1)
     }
+}
+
+/// Scans the cells of the current bucket (distances in [`level`, `level` + 1)) queued by move
+/// `MOVE` (or the sources), trying the moves of `MOVES_TO_TRY[MOVE]`, and queues each neighbour
+/// it lowers in the list of that move in `next` (bucket level + 1) or `after` (level + 2).
+/// Returns the number of cells reached for the first time.
+#[inline(always)]
+fn scan_list<const MOVE: usize>(
+    cells: &[u32],
+    distance: &mut [f64],
+    stride: usize,
+    level: f64,
+    next: &mut MoveLists,
+    after: &mut MoveLists,
+) -> usize {
+    let moves = MOVES_TO_TRY[MOVE];
+    let s = stride as isize;
+    // Padded offsets of the moves in [`usar_world::NEIGHBORS8`] order.
+    let offsets = [1, s, -1, -s, s + 1, s - 1, -s - 1, -s + 1];
+    let after_level = level + 2.0;
+    let mut reached = 0;
+    for &cell in cells {
+        let cur = cell as usize;
+        let d = distance[cur];
+        // Stale: the cell's distance dropped into an earlier bucket, scanned already.
+        if d < level {
+            continue;
+        }
+        // The neighbours' distances, in move order; only those the moves tried need are read
+        // (the others count as blocked).
+        let old: [f64; 8] = std::array::from_fn(|k| {
+            if NEEDED[MOVE] & (1 << k) != 0 {
+                distance[cur.wrapping_add_signed(offsets[k])]
+            } else {
+                BLOCKED_DISTANCE
+            }
+        });
+        // Straight moves land in bucket level + 1. Blocked (negative) and final cells are
+        // never lowered.
+        let nd = d + 1.0;
+        for k in 0..4 {
+            if moves & (1 << k) != 0 && nd < old[k] {
+                let i = cur.wrapping_add_signed(offsets[k]);
+                distance[i] = nd;
+                reached += usize::from(old[k] == f64::INFINITY);
+                next[k].push(i as u32);
+            }
+        }
+        // Diagonal moves, allowed when both orthogonal cells are passable (≥ 0), land in
+        // bucket level + 1 or level + 2.
+        let nd = d + DIAGONAL_COST;
+        let target = if nd < after_level {
+            &mut *next
+        } else {
+            &mut *after
+        };
+        let free = old.map(|v| v >= 0.0);
+        for k in 4..8 {
+            let (a, b) = DIAGONAL_SIDES[k - 4];
+            if moves & (1 << k) != 0 && free[a] && free[b] && nd < old[k] {
+                let i = cur.wrapping_add_signed(offsets[k]);
+                distance[i] = nd;
+                reached += usize::from(old[k] == f64::INFINITY);
+                target[k].push(i as u32);
+            }
+        }
+    }
+    reached
+}
+
+/// True for the stored distance of a reached cell (not blocked, not infinite).
+#[inline]
+fn reached(distance: f64) -> bool {
+    (0.0..f64::INFINITY).contains(&distance)
 }
 
 #[cfg(test)]

@@ -1,7 +1,8 @@
 //! Grid and graph planners: the [`NavGrid`] the planners read, [`inflate`] for the robot's
-//! radius, [`GridAStar`] (4- or 8-connected, octile costs, no corner cutting), a generic
-//! [`graph_astar`] for graphs such as the BTM, the multi-source [`DistanceField`], a checker of
-//! MovingAI scenarios, and a synthetic building floor for speed measurements.
+//! radius, [`GridAStar`] (4- or 8-connected, octile costs, no corner cutting; jump point search
+//! for 8-connected plans), a generic [`graph_astar`] for graphs such as the BTM, the
+//! multi-source [`DistanceField`], a checker of MovingAI scenarios, and a synthetic building
+//! floor for speed measurements.
 //!
 //! Everything works on flat buffers with a one-cell blocked border and keeps its scratch memory
 //! between calls, so that repeated searches on a grid of one size do not allocate.
@@ -27,17 +28,19 @@
 //! ```
 
 pub mod bench_grid;
+mod bit_lines;
 mod distance_field;
 mod graph_astar;
 mod grid_astar;
 mod inflate;
+mod jump_point;
 mod nav_grid;
 mod open_list;
 pub mod scenarios;
 
 pub use self::distance_field::DistanceField;
 pub use self::graph_astar::{TotalCost, astar, astar_bag, graph_astar};
-pub use self::grid_astar::{Connectivity, DIAGONAL_COST, GridAStar, GridPath};
+pub use self::grid_astar::{Connectivity, DIAGONAL_COST, GridAStar, GridAlgorithm, GridPath};
 pub use self::inflate::inflate;
 pub use self::nav_grid::NavGrid;
 pub use self::scenarios::{Mismatch, ScenarioReport, check_scenario_sample, check_scenarios};

@@ -1,5 +1,7 @@
 //! The planners' view of a map: passability in one flat byte buffer with a blocked border.
 
+use super::bit_lines::BitLines;
+use std::sync::OnceLock;
 use usar_world::{Cell, Grid, GridGeometry};
 
 /// Byte value of a cell a robot may enter.
@@ -12,13 +14,44 @@ pub(crate) const BLOCKED: u8 = 0;
 /// neighbours in the buffer, and the border ones are blocked.
 ///
 /// Padded index of cell (col, row) is `(row + 1) * (width + 2) + col + 1`.
-#[derive(Clone, Debug, PartialEq)]
+///
+/// Jump point search also reads the cells packed in bits (by rows and by columns); that copy is
+/// built on its first use and dropped when a cell changes.
+#[derive(Clone)]
 pub struct NavGrid {
     geometry: GridGeometry,
     /// Width of a padded row, `width + 2`.
     stride: usize,
     /// `(width + 2) * (height + 2)` bytes, [`PASSABLE`] or [`BLOCKED`].
     cells: Vec<u8>,
+    /// `cells` as bits, built on demand (see [`NavGrid::bit_lines`]).
+    bits: OnceLock<PackedCells>,
+}
+
+/// The padded cells as bits: by rows, and by columns (transposed).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct PackedCells {
+    /// Line = padded row, position = padded column.
+    pub rows: BitLines,
+    /// Line = padded column, position = padded row.
+    pub cols: BitLines,
+}
+
+impl PartialEq for NavGrid {
+    /// Equal geometry and passability (whether the bit copy was built does not matter).
+    fn eq(&self, other: &Self) -> bool {
+        self.geometry == other.geometry && self.cells == other.cells
+    }
+}
+
+impl std::fmt::Debug for NavGrid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NavGrid")
+            .field("geometry", &self.geometry)
+            .field("stride", &self.stride)
+            .field("cells", &self.cells)
+            .finish_non_exhaustive()
+    }
 }
 
 impl NavGrid {
@@ -30,6 +63,7 @@ impl NavGrid {
             geometry,
             stride,
             cells,
+            bits: OnceLock::new(),
         }
     }
 
@@ -88,6 +122,7 @@ impl NavGrid {
         if self.geometry.contains(cell) {
             let i = self.padded_index(cell);
             self.cells[i] = if passable { PASSABLE } else { BLOCKED };
+            self.bits = OnceLock::new();
         }
     }
 
@@ -154,6 +189,15 @@ impl NavGrid {
     #[inline]
     pub(crate) fn stride(&self) -> usize {
         self.stride
+    }
+
+    /// The padded cells packed in bits by rows and by columns, built on the first call after
+    /// the grid was made or changed (O(cells)).
+    pub(crate) fn bit_lines(&self) -> &PackedCells {
+        self.bits.get_or_init(|| PackedCells {
+            rows: BitLines::from_cells(&self.cells, self.stride, false),
+            cols: BitLines::from_cells(&self.cells, self.stride, true),
+        })
     }
 
     /// The padded passability buffer.

@@ -1,7 +1,8 @@
 //! Checks [`GridAStar`] against the published optimal lengths of a MovingAI `.scen` file.
 //!
-//! Every scenario is planned with 8-connected, no-corner-cutting A* and its length compared with
-//! the file's optimal length at the precision the file prints, within [`LENGTH_TOLERANCE`].
+//! Every scenario is planned with [`GridAStar::plan`] (8-connected, no corner cutting: jump
+//! point search) and its length compared with the file's optimal length at the precision the
+//! file prints, within [`LENGTH_TOLERANCE`].
 
 use super::grid_astar::{Connectivity, GridAStar};
 use super::nav_grid::NavGrid;
@@ -39,7 +40,7 @@ pub struct Mismatch {
     pub goal: (u32, u32),
     /// Published optimal length, cells.
     pub expected: f64,
-    /// Planned length, cells; `None` when A* found no path.
+    /// Planned length, cells; `None` when the planner found no path.
     pub found: Option<f64>,
 }
 
@@ -56,7 +57,7 @@ pub struct ScenarioReport {
     /// Largest unrounded |found − expected|, cells (bounded by half a unit of the last
     /// printed digit when the planner is right).
     pub max_raw_error: f64,
-    /// Cells expanded by A*, summed over all scenarios.
+    /// Cells expanded by the planner (jump points), summed over all scenarios.
     pub total_expanded: u64,
     /// The first [`MISMATCHES_LISTED`] mismatches.
     pub mismatches: Vec<Mismatch>,
