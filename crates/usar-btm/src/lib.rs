@@ -3,7 +3,9 @@
 //! ([`exchange`]). Generation from laser scans, locomotion, planning and merging build on these.
 
 pub mod exchange;
+pub mod merge;
 pub mod model;
+pub mod plan;
 pub mod store;
 
 pub use self::model::{Btm, Link, Node};
