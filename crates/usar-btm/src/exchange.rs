@@ -18,11 +18,10 @@ struct JsonFile {
     links: Vec<Link>,
 }
 
-/// The map as pretty JSON, with each node's number of links and angles between adjacent
-/// links (Table I) added as `links` and `link_angles_rad` for readers (ignored on import).
-pub fn to_json(btm: &Btm) -> String {
-    let nodes: Vec<serde_json::Value> = btm
-        .nodes
+/// Every node as JSON with Table I's derived fields added: its number of `links` and the
+/// `link_angles_rad` between adjacent links (ignored on import).
+pub fn node_rows(btm: &Btm) -> Vec<serde_json::Value> {
+    btm.nodes
         .iter()
         .map(|n| {
             let mut v = serde_json::to_value(n).expect("nodes serialize");
@@ -30,11 +29,15 @@ pub fn to_json(btm: &Btm) -> String {
             v["link_angles_rad"] = btm.link_angles(n.id).into();
             v
         })
-        .collect();
+        .collect()
+}
+
+/// The map as pretty JSON (nodes as [`node_rows`]).
+pub fn to_json(btm: &Btm) -> String {
     serde_json::to_string_pretty(&serde_json::json!({
         "format": JSON_FORMAT,
         "version": JSON_VERSION,
-        "nodes": nodes,
+        "nodes": node_rows(btm),
         "links": btm.links,
     }))
     .expect("JSON serializes")
@@ -165,4 +168,49 @@ pub fn to_graphml(btm: &Btm) -> String {
         out += "    </edge>\n";
     }
     out + "  </graph>\n</graphml>\n"
+}
+
+/// Reads a BTM from a `.json` file or a BTM database (any other extension).
+pub fn read(path: &std::path::Path) -> Result<Btm, String> {
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if is_json {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        return from_json(&text, &path.display().to_string());
+    }
+    crate::store::BtmStore::open(path)
+        .and_then(|s| s.load())
+        .map_err(|e| e.to_string())
+}
+
+/// Writes a BTM as `.json`, `.graphml` or a new BTM database (`.sqlite`), atomically: the file
+/// appears complete or not at all.
+pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let text = match ext.as_str() {
+        "json" => to_json(btm),
+        "graphml" => to_graphml(btm),
+        "sqlite" | "db" => {
+            let tmp = path.with_extension("sqlite.partial");
+            let _ = std::fs::remove_file(&tmp);
+            let mut store = crate::store::BtmStore::create(&tmp).map_err(|e| e.to_string())?;
+            store.put_all(btm).map_err(|e| e.to_string())?;
+            drop(store);
+            return std::fs::rename(&tmp, path)
+                .map_err(|e| format!("{}: cannot move into place: {e}", path.display()));
+        }
+        _ => {
+            return Err(format!(
+                "{}: unknown BTM format {ext:?}, expected .json, .graphml or .sqlite",
+                path.display()
+            ));
+        }
+    };
+    usar_world::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())
 }

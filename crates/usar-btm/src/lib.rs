@@ -6,6 +6,7 @@ pub mod exchange;
 pub mod merge;
 pub mod model;
 pub mod plan;
+pub mod render;
 pub mod store;
 
 pub use self::model::{Btm, Link, Node};

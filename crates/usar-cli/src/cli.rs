@@ -40,6 +40,83 @@ pub enum Command {
     /// Paper 000's hierarchical reinforcement learning (MAXQ-Q).
     #[command(subcommand)]
     Maxq(MaxqCommand),
+    /// Paper 004's Behavioral Trace Maps: show, export, plan on and merge topological maps.
+    /// A BTM file is a BTM database (.sqlite) or its JSON export (.json).
+    #[command(subcommand)]
+    Btm(BtmCommand),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum BtmCommand {
+    /// Draw a BTM (nodes by kind, searched links, un-searched stubs) as PNG or SVG.
+    Show(BtmShowArgs),
+    /// Print every node and link, or convert to .json / .graphml / .sqlite.
+    Export(BtmExportArgs),
+    /// Find a route on a BTM for a robot: links narrower, steeper or with higher steps than it
+    /// can take are never used; exit 3 with the reason when there is no route.
+    Plan(BtmPlanArgs),
+    /// Join local BTMs of several robots into one global BTM.
+    Merge(BtmMergeArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct BtmShowArgs {
+    pub btm: PathBuf,
+    /// Draw over this scene (file, map or generator name).
+    #[arg(long)]
+    pub scene: Option<String>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Output .png or .svg.
+    #[arg(long)]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct BtmExportArgs {
+    pub btm: PathBuf,
+    /// Write the map to this .json, .graphml or .sqlite file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print every node (id, type, subtype, x, y, attributes) and link (ends, status,
+    /// length, minimum width, inclination) as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct BtmPlanArgs {
+    pub btm: PathBuf,
+    /// Robot model: crawler, wheeled or a robot TOML file.
+    #[arg(long, default_value = "wheeled")]
+    pub robot: String,
+    /// Start: a node id, or "x,y" in metres (the nearest node).
+    #[arg(long, allow_hyphen_values = true)]
+    pub from: String,
+    /// Goal: a node id, or "x,y" in metres (the nearest node).
+    #[arg(long, allow_hyphen_values = true)]
+    pub to: String,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct BtmMergeArgs {
+    /// The local BTMs.
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// The global BTM to write (.sqlite, .json or .graphml).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Nodes of the same kind closer than this are one place, metres.
+    #[arg(long, default_value_t = 1.0)]
+    pub radius: f64,
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Subcommand)]

@@ -1,5 +1,6 @@
 //! End-to-end tests of the `usar` binary: exit codes, error lines, determinism, round trips.
 
+mod btm;
 mod campaign;
 
 use std::path::{Path, PathBuf};

@@ -2,6 +2,7 @@
 //! (text, or JSON with `--json`).
 
 mod bench;
+mod btm;
 mod campaign;
 mod demo;
 mod explore;
@@ -21,6 +22,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Bench(args) => bench::run(args),
         Command::Campaign(cmd) => campaign::run(cmd),
         Command::Maxq(cmd) => maxq::run(cmd),
+        Command::Btm(cmd) => btm::run(cmd),
     }
 }
 
