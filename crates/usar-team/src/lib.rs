@@ -11,6 +11,7 @@ pub mod base_station;
 mod config;
 pub mod coverage;
 pub mod driver;
+pub mod mcdm;
 mod mission;
 mod outcome;
 pub mod report;

@@ -1,1 +1,2 @@
 mod explore;
+mod mcdm;
