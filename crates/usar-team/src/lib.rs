@@ -11,10 +11,12 @@ pub mod base_station;
 mod config;
 pub mod coverage;
 pub mod driver;
+pub mod fuzzy;
 pub mod mcdm;
 mod mission;
 mod outcome;
 pub mod report;
+pub mod team_size;
 
 pub use self::config::{TeamConfig, Timing};
 pub use self::mission::{MissionError, TeamMission};

@@ -1,2 +1,3 @@
 mod explore;
 mod mcdm;
+mod team_size;
