@@ -9,6 +9,7 @@
 pub mod assignment;
 pub mod base_station;
 mod config;
+pub mod coordination;
 pub mod coverage;
 pub mod driver;
 pub mod fuzzy;
