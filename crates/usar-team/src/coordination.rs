@@ -141,9 +141,11 @@ mod tests {
             vec![Some(0.8), Some(0.4)],
             vec![Some(0.7), Some(0.6)],
         ];
+        // Robot 0 takes 0; robot 2 then prefers 1 (0.6 over 0.35); candidate 1, now discounted
+        // to 0.2 for robot 1, loses to candidate 0 (0.4).
         assert_eq!(
             allocate(&bids, &[1, 1], Coordination::Mrv2, d),
-            vec![Some(0), Some(1), Some(1)]
+            vec![Some(0), Some(0), Some(1)]
         );
     }
 
