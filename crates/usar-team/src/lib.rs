@@ -11,6 +11,7 @@ pub mod base_station;
 mod config;
 pub mod coordination;
 pub mod coverage;
+pub mod criteria;
 pub mod driver;
 pub mod fuzzy;
 pub mod mcdm;

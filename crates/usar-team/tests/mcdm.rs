@@ -81,3 +81,53 @@ fn normalisation_is_linear_and_relative() {
         vec![Some(1.0), Some(1.0)]
     );
 }
+
+mod criteria {
+    use usar_team::criteria::{CandidateInfo, Hypothesis, travel_time_s, utilities};
+    use usar_team::mcdm::{FuzzyMeasure, d_mcdm_table_1, s_mcdm_table_1};
+    use usar_world::{Point2, RoomLabel};
+
+    #[test]
+    fn travel_time_counts_driving_and_turning() {
+        let path = [
+            Point2::new(0.0, 0.0),
+            Point2::new(2.0, 0.0),
+            Point2::new(2.0, 2.0),
+        ];
+        // 4 m at 0.5 m/s, a quarter turn at 1 rad/s.
+        let t = travel_time_s(&path, 0.0, 0.5, 1.0);
+        assert!((t - (8.0 + std::f64::consts::FRAC_PI_2)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn s_mcdm_goes_to_the_relevant_room_where_d_mcdm_goes_to_the_nearest() {
+        let robots = [Point2::new(0.0, 0.0)];
+        let cand = |x: f64, label, doors| CandidateInfo {
+            position: Point2::new(x, 0.0),
+            frontier_cells: 30,
+            label: Some(label),
+            doors,
+        };
+        // A near small room and a farther big room.
+        let cands = [
+            cand(4.0, RoomLabel::SmallRoom, 1),
+            cand(12.0, RoomLabel::BigRoom, 2),
+        ];
+        let travel = vec![vec![Some(9.0), Some(25.0)]];
+        let big = Hypothesis::big_rooms();
+        let s = FuzzyMeasure::new(&s_mcdm_table_1()).unwrap();
+        let d = FuzzyMeasure::new(&d_mcdm_table_1()).unwrap();
+        let us = utilities(&s, &robots, &cands, &travel, &big).unwrap();
+        let ud = utilities(&d, &robots, &cands, &travel, &big).unwrap();
+        assert!(us[0][1] > us[0][0], "{us:?}");
+        assert!(ud[0][0] > ud[0][1], "{ud:?}");
+        // With the small-room hypothesis S-MCDM prefers the near small room too.
+        let small = Hypothesis::small_rooms();
+        let us = utilities(&s, &robots, &cands, &travel, &small).unwrap();
+        assert!(us[0][0] > us[0][1]);
+        assert_eq!(big.relevance(Some(RoomLabel::Corridor)), 0.15);
+        // Unreachable pairs get no utility.
+        let none = utilities(&d, &robots, &cands, &[vec![None, Some(3.0)]], &big).unwrap();
+        assert_eq!(none[0][0], None);
+    }
+}
