@@ -39,8 +39,13 @@ proptest! {
                 prop_assert!(!g.contains(cell) || !scene.is_obstacle(cell), "beam {i} crosses occupied {cell:?} at {d} < {r}");
             }
             if r.is_finite() {
-                let p = Point2::new(x, y).offset(a, f64::from(r) + 1e-6);
-                prop_assert!(scene.is_obstacle(g.world_to_cell(p)));
+                // The range ends on an occupied cell: one touches the end point (a beam that
+                // grazes a wall's corner ends exactly on it).
+                let p = Point2::new(x, y).offset(a, f64::from(r));
+                let touching = [(-1e-4, -1e-4), (-1e-4, 1e-4), (1e-4, -1e-4), (1e-4, 1e-4)]
+                    .iter()
+                    .any(|&(dx, dy)| scene.is_obstacle(g.world_to_cell(Point2::new(p.x + dx, p.y + dy))));
+                prop_assert!(touching, "beam {i} ends at {r} on no occupied cell");
             }
         }
     }
