@@ -68,15 +68,62 @@ pub struct OccupancyGrid {
     geometry: GridGeometry,
     params: OccupancyParams,
     logodds: Vec<i8>,
-    /// Scan number that last updated each cell (dedupes updates within one scan).
-    stamp: Vec<u32>,
-    scan_number: u32,
+    /// A cell's value after a miss, indexed by its value before (as `u8`): the update of
+    /// [`OccupancyGrid::apply`] tabulated, so a cell the miss leaves unchanged (saturated free)
+    /// costs one load and one comparison.
+    after_miss: [i8; 256],
+    /// A cell's value after a hit, indexed likewise.
+    after_hit: [i8; 256],
+    /// Scan number (1 ..= 255, wrapping with a reset) that last changed each cell by a miss:
+    /// dedupes misses within one scan. A miss that would leave a cell unchanged needs no stamp,
+    /// since every later miss in that scan would leave it unchanged too.
+    stamp: Vec<u8>,
+    scan_number: u8,
     hits: Vec<u32>,
+    log: ChangeLog,
+}
+
+/// What changed since consumers last looked: the class-change log, the dirty tiles and the count
+/// of known cells.
+#[derive(Clone, Debug)]
+struct ChangeLog {
     /// Cells whose class changed since the log was last drained.
     changed: Vec<u32>,
+    /// Grid width (cells).
+    width: usize,
     tiles_x: usize,
     dirty_tiles: Vec<bool>,
     known_cells: usize,
+}
+
+impl ChangeLog {
+    /// Records that cell `i` went from `old` to `new` (`new != old`). Kept out of line: the ray
+    /// walks inline only their common case, a cell left unchanged.
+    #[inline(never)]
+    fn record(&mut self, params: &OccupancyParams, i: usize, old: i8, new: i8) {
+        let (co, cn) = (params.class(old), params.class(new));
+        if co != cn {
+            self.changed.push(i as u32);
+            self.known_cells = self.known_cells + usize::from(co == CellClass::Unknown)
+                - usize::from(cn == CellClass::Unknown);
+        }
+        let (row, col) = (i / self.width, i % self.width);
+        self.dirty_tiles[(row >> TILE_SHIFT) * self.tiles_x + (col >> TILE_SHIFT)] = true;
+    }
+}
+
+/// `logodds` after evidence `delta`: a never-observed cell starts from 0 (p = 0.5); the sum
+/// saturates and is clamped to ±[`LOGODDS_LIMIT`].
+#[inline]
+fn updated(logodds: i8, delta: i8) -> i8 {
+    let base = if logodds == NEVER_OBSERVED { 0 } else { logodds };
+    base.saturating_add(delta)
+        .clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT)
+}
+
+/// `updated(l, delta)` for every `l`, indexed by `l as u8`.
+fn update_table(delta: i8) -> [i8; 256] {
+    std::array::from_fn(|k| updated(k as u8 as i8, delta))
 }
 
 impl OccupancyGrid {
@@ -88,13 +135,18 @@ impl OccupancyGrid {
             geometry,
             params,
             logodds: vec![NEVER_OBSERVED; n],
+            after_miss: update_table(params.miss),
+            after_hit: update_table(params.hit),
             stamp: vec![0; n],
             scan_number: 0,
             hits: Vec::new(),
-            changed: Vec::new(),
-            tiles_x,
-            dirty_tiles: vec![false; tiles_x * tiles_y],
-            known_cells: 0,
+            log: ChangeLog {
+                changed: Vec::new(),
+                width: geometry.width as usize,
+                tiles_x,
+                dirty_tiles: vec![false; tiles_x * tiles_y],
+                known_cells: 0,
+            },
         }
     }
 
@@ -125,28 +177,17 @@ impl OccupancyGrid {
 
     /// Number of cells currently free or occupied.
     pub fn known_cells(&self) -> usize {
-        self.known_cells
+        self.log.known_cells
     }
 
     /// Known (free or occupied) area, m².
     pub fn known_area_m2(&self) -> f64 {
-        self.known_cells as f64 * self.geometry.cell_area_m2()
+        self.log.known_cells as f64 * self.geometry.cell_area_m2()
     }
 
     /// Takes the log of cells whose class changed since the last call.
     pub fn drain_changed(&mut self, into: &mut Vec<u32>) {
-        into.append(&mut self.changed);
-    }
-
-    #[inline(always)]
-    fn apply(&mut self, i: usize, delta: i8) {
-        let old = self.logodds[i];
-        let base = if old == NEVER_OBSERVED { 0 } else { old };
-        self.set(
-            i,
-            base.saturating_add(delta)
-                .clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT),
-        );
+        into.append(&mut self.log.changed);
     }
 
     /// Sets a cell's value, logging a class change and marking its tile dirty.
@@ -155,15 +196,7 @@ impl OccupancyGrid {
         let old = self.logodds[i];
         if new != old {
             self.logodds[i] = new;
-            let (co, cn) = (self.params.class(old), self.params.class(new));
-            if co != cn {
-                self.changed.push(i as u32);
-                self.known_cells = self.known_cells + usize::from(co == CellClass::Unknown)
-                    - usize::from(cn == CellClass::Unknown);
-            }
-            let w = self.geometry.width as usize;
-            let tile = ((i / w) >> TILE_SHIFT) * self.tiles_x + ((i % w) >> TILE_SHIFT);
-            self.dirty_tiles[tile] = true;
+            self.log.record(&self.params, i, old, new);
         }
     }
 
@@ -178,15 +211,23 @@ impl OccupancyGrid {
         let stamp_now = self.scan_number;
         let g = self.geometry;
         let inv_res = 1.0 / g.resolution_m;
-        let (w, h) = (g.width, g.height);
         let (s, c) = scan.pose.theta.sin_cos();
         let (s0, c0) = scan.angle_min_rad.sin_cos();
         let (si, ci) = scan.angle_increment_rad.sin_cos();
         // Beam direction relative to the heading, advanced by rotation (no sin_cos per beam).
         let (mut bc, mut bs) = (c0, s0);
         let origin = scan.pose.position();
-        let miss = self.params.miss;
-        self.hits.clear();
+        let Self {
+            params,
+            logodds,
+            after_miss,
+            after_hit,
+            stamp,
+            hits,
+            log,
+            ..
+        } = self;
+        hits.clear();
         for &range in &scan.ranges_m {
             let (dc, ds) = (c * bc - s * bs, s * bc + c * bs);
             let hit = range.is_finite();
@@ -195,32 +236,42 @@ impl OccupancyGrid {
             } else {
                 scan.max_range_m
             } * inv_res;
-            let mut ray = GridRay::new(&g, origin, dc, ds);
-            while let Some(i) = ray.index_in(w, h) {
-                let end_here = ray.t_exit() >= reach_t;
-                if end_here && hit {
-                    self.hits.push(i as u32);
-                    break;
+            // A miss, at most once per cell and scan.
+            let mut miss_at = |i: usize| {
+                let old = logodds[i];
+                let new = after_miss[usize::from(old as u8)];
+                if new != old && stamp[i] != stamp_now {
+                    stamp[i] = stamp_now;
+                    logodds[i] = new;
+                    log.record(params, i, old, new);
                 }
-                if self.stamp[i] != stamp_now {
-                    self.stamp[i] = stamp_now;
-                    self.apply(i, miss);
+            };
+            // Misses on the cells the beam leaves before its range; the cell where it ends
+            // takes the hit (a return) or a miss (no return within the maximum range).
+            let end = GridRay::new(&g, origin, dc, ds).walk_to(g.width, g.height, reach_t, |i| {
+                miss_at(i);
+                false
+            });
+            if let Some((i, _)) = end {
+                if hit {
+                    hits.push(i as u32);
+                } else {
+                    miss_at(i);
                 }
-                if end_here {
-                    break;
-                }
-                ray.advance();
             }
             (bc, bs) = (bc * ci - bs * si, bs * ci + bc * si);
         }
-        let hit_delta = self.params.hit;
-        let mut hits = std::mem::take(&mut self.hits);
         hits.sort_unstable();
         hits.dedup();
-        for &i in &hits {
-            self.apply(i as usize, hit_delta);
+        for &i in hits.iter() {
+            let i = i as usize;
+            let old = logodds[i];
+            let new = after_hit[usize::from(old as u8)];
+            if new != old {
+                logodds[i] = new;
+                log.record(params, i, old, new);
+            }
         }
-        self.hits = hits;
     }
 
     /// A mask of cells whose class is `class`.
@@ -240,17 +291,17 @@ impl OccupancyGrid {
     /// unknown only if every source has never observed it), then clears the sources' dirty
     /// marks. All grids must share one geometry.
     pub fn merge_from(&mut self, sources: &mut [&mut OccupancyGrid]) {
-        let n_tiles = self.dirty_tiles.len();
+        let n_tiles = self.log.dirty_tiles.len();
         let w = self.geometry.width as usize;
         let h = self.geometry.height as usize;
         let side = 1usize << TILE_SHIFT;
         let mut sum = vec![0i16; side];
         let mut observed = vec![false; side];
         for tile in 0..n_tiles {
-            if !sources.iter().any(|s| s.dirty_tiles[tile]) {
+            if !sources.iter().any(|s| s.log.dirty_tiles[tile]) {
                 continue;
             }
-            let (tx, ty) = (tile % self.tiles_x, tile / self.tiles_x);
+            let (tx, ty) = (tile % self.log.tiles_x, tile / self.log.tiles_x);
             let (x0, y0) = (tx * side, ty * side);
             let (x1, y1) = ((x0 + side).min(w), (y0 + side).min(h));
             for row in y0..y1 {
@@ -282,7 +333,7 @@ impl OccupancyGrid {
             }
         }
         for s in sources.iter_mut() {
-            s.dirty_tiles.fill(false);
+            s.log.dirty_tiles.fill(false);
         }
     }
 }
