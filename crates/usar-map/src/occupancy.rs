@@ -74,9 +74,11 @@ pub struct OccupancyGrid {
     after_miss: [i8; 256],
     /// A cell's value after a hit, indexed likewise.
     after_hit: [i8; 256],
+    /// Bit `i % 64` of word `i / 64` is set when a miss leaves cell i unchanged
+    /// (`after_miss[l] == l`): what a beam crossing saturated free space reads.
+    unchanged_by_miss: Vec<u64>,
     /// Scan number (1 ..= 255, wrapping with a reset) that last changed each cell by a miss:
-    /// dedupes misses within one scan. A miss that would leave a cell unchanged needs no stamp,
-    /// since every later miss in that scan would leave it unchanged too.
+    /// dedupes misses within one scan.
     stamp: Vec<u8>,
     scan_number: u8,
     hits: Vec<u32>,
@@ -97,9 +99,8 @@ struct ChangeLog {
 }
 
 impl ChangeLog {
-    /// Records that cell `i` went from `old` to `new` (`new != old`). Kept out of line: the ray
-    /// walks inline only their common case, a cell left unchanged.
-    #[inline(never)]
+    /// Records that cell `i` went from `old` to `new` (`new != old`).
+    #[inline]
     fn record(&mut self, params: &OccupancyParams, i: usize, old: i8, new: i8) {
         let (co, cn) = (params.class(old), params.class(new));
         if co != cn {
@@ -116,7 +117,11 @@ impl ChangeLog {
 /// saturates and is clamped to ±[`LOGODDS_LIMIT`].
 #[inline]
 fn updated(logodds: i8, delta: i8) -> i8 {
-    let base = if logodds == NEVER_OBSERVED { 0 } else { logodds };
+    let base = if logodds == NEVER_OBSERVED {
+        0
+    } else {
+        logodds
+    };
     base.saturating_add(delta)
         .clamp(-LOGODDS_LIMIT, LOGODDS_LIMIT)
 }
@@ -137,6 +142,8 @@ impl OccupancyGrid {
             logodds: vec![NEVER_OBSERVED; n],
             after_miss: update_table(params.miss),
             after_hit: update_table(params.hit),
+            // A miss always changes a never-observed cell: no bit is set.
+            unchanged_by_miss: vec![0; n.div_ceil(64)],
             stamp: vec![0; n],
             scan_number: 0,
             hits: Vec::new(),
@@ -195,8 +202,38 @@ impl OccupancyGrid {
     fn set(&mut self, i: usize, new: i8) {
         let old = self.logodds[i];
         if new != old {
-            self.logodds[i] = new;
-            self.log.record(&self.params, i, old, new);
+            self.write(i, old, new);
+        }
+    }
+
+    /// Writes `new` over `old` (`new != old`) in cell i, keeping the bitmap and the log.
+    #[inline]
+    fn write(&mut self, i: usize, old: i8, new: i8) {
+        self.logodds[i] = new;
+        let unchanged = self.after_miss[usize::from(new as u8)] == new;
+        let (word, bit) = (i / 64, i % 64);
+        self.unchanged_by_miss[word] =
+            (self.unchanged_by_miss[word] & !(1 << bit)) | (u64::from(unchanged) << bit);
+        self.log.record(&self.params, i, old, new);
+    }
+
+    /// A miss on cell i, at most once per scan: the common case, a cell that a miss leaves
+    /// unchanged (saturated free), is one bit test.
+    #[inline(always)]
+    fn miss_at(&mut self, i: usize, stamp_now: u8) {
+        if (self.unchanged_by_miss[i / 64] >> (i % 64)) & 1 == 0 {
+            self.change_by_miss(i, stamp_now);
+        }
+    }
+
+    /// A miss on cell i that changes it, unless it took one this scan. (A cell that a miss
+    /// leaves unchanged needs no stamp: every later miss in the scan leaves it unchanged too.)
+    #[inline(never)]
+    fn change_by_miss(&mut self, i: usize, stamp_now: u8) {
+        if self.stamp[i] != stamp_now {
+            self.stamp[i] = stamp_now;
+            let old = self.logodds[i];
+            self.write(i, old, self.after_miss[usize::from(old as u8)]);
         }
     }
 
@@ -217,17 +254,7 @@ impl OccupancyGrid {
         // Beam direction relative to the heading, advanced by rotation (no sin_cos per beam).
         let (mut bc, mut bs) = (c0, s0);
         let origin = scan.pose.position();
-        let Self {
-            params,
-            logodds,
-            after_miss,
-            after_hit,
-            stamp,
-            hits,
-            log,
-            ..
-        } = self;
-        hits.clear();
+        self.hits.clear();
         for &range in &scan.ranges_m {
             let (dc, ds) = (c * bc - s * bs, s * bc + c * bs);
             let hit = range.is_finite();
@@ -236,42 +263,34 @@ impl OccupancyGrid {
             } else {
                 scan.max_range_m
             } * inv_res;
-            // A miss, at most once per cell and scan.
-            let mut miss_at = |i: usize| {
-                let old = logodds[i];
-                let new = after_miss[usize::from(old as u8)];
-                if new != old && stamp[i] != stamp_now {
-                    stamp[i] = stamp_now;
-                    logodds[i] = new;
-                    log.record(params, i, old, new);
-                }
-            };
             // Misses on the cells the beam leaves before its range; the cell where it ends
             // takes the hit (a return) or a miss (no return within the maximum range).
-            let end = GridRay::new(&g, origin, dc, ds).walk_to(g.width, g.height, reach_t, |i| {
-                miss_at(i);
+            let ray = GridRay::new(&g, origin, dc, ds);
+            let end = ray.walk_to(g.width, g.height, reach_t, |i| {
+                self.miss_at(i, stamp_now);
                 false
             });
             if let Some((i, _)) = end {
                 if hit {
-                    hits.push(i as u32);
+                    self.hits.push(i as u32);
                 } else {
-                    miss_at(i);
+                    self.miss_at(i, stamp_now);
                 }
             }
             (bc, bs) = (bc * ci - bs * si, bs * ci + bc * si);
         }
+        let mut hits = std::mem::take(&mut self.hits);
         hits.sort_unstable();
         hits.dedup();
-        for &i in hits.iter() {
+        for &i in &hits {
             let i = i as usize;
-            let old = logodds[i];
-            let new = after_hit[usize::from(old as u8)];
+            let old = self.logodds[i];
+            let new = self.after_hit[usize::from(old as u8)];
             if new != old {
-                logodds[i] = new;
-                log.record(params, i, old, new);
+                self.write(i, old, new);
             }
         }
+        self.hits = hits;
     }
 
     /// A mask of cells whose class is `class`.

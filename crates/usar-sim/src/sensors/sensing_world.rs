@@ -2,10 +2,10 @@
 //! of each cell, or +∞ where a wall or furniture stands. A beam at height z is stopped by the
 //! first cell whose blocking height reaches z.
 //!
-//! A bitmap beside the heights marks the cells that rise above 0 m (walls, furniture, raised
-//! floor): a beam above 0 m can only be stopped by a marked cell, so the walk reads one bit per
-//! cell (the bitmap of a 1000 × 1000 grid is 125 kB and stays in cache) and the height itself
-//! only on marked cells.
+//! Two bitmaps beside the heights mark the cells that rise above 0 m (walls, furniture, raised
+//! floor) and, among them, the obstacles: a beam above 0 m can only be stopped by a rising cell,
+//! so the walk reads one bit per cell (a bitmap of a 1000 × 1000 grid is 125 kB and stays in
+//! cache), a second one on rising cells and the height itself only on raised floor.
 
 use usar_world::{GridGeometry, GridRay, Point2, Scene};
 
@@ -16,6 +16,8 @@ pub struct SensingWorld {
     blocking_height_m: Vec<f32>,
     /// Bit `i % 64` of word `i / 64` is set when cell i's blocking height is not ≤ 0 m.
     rises_above_zero: Vec<u64>,
+    /// Set when cell i's blocking height is +∞ (an obstacle).
+    blocks_all: Vec<u64>,
 }
 
 impl SensingWorld {
@@ -33,19 +35,22 @@ impl SensingWorld {
                 }
             })
             .collect::<Vec<f32>>();
-        let rises_above_zero = blocking_height_m
-            .chunks(64)
-            .map(|heights| {
-                heights
-                    .iter()
-                    .enumerate()
-                    .fold(0u64, |bits, (k, &h)| bits | (u64::from(!(h <= 0.0)) << k))
-            })
-            .collect();
+        let bitmap = |mark: fn(f32) -> bool| -> Vec<u64> {
+            blocking_height_m
+                .chunks(64)
+                .map(|heights| {
+                    heights
+                        .iter()
+                        .enumerate()
+                        .fold(0u64, |bits, (k, &h)| bits | (u64::from(mark(h)) << k))
+                })
+                .collect()
+        };
         Self {
             geometry: *scene.geometry(),
+            rises_above_zero: bitmap(|h| !(h <= 0.0)),
+            blocks_all: bitmap(|h| h == f32::INFINITY),
             blocking_height_m,
-            rises_above_zero,
         }
     }
 
@@ -76,9 +81,10 @@ impl SensingWorld {
         let heights = self.blocking_height_m.as_slice();
         if z_m > 0.0 {
             // A cell whose bit is clear has a height ≤ 0 < z_m: skip its height.
-            let rises = self.rises_above_zero.as_slice();
+            let bit = |bits: &[u64], i: usize| (bits[i / 64] >> (i % 64)) & 1 != 0;
+            let (rises, blocks_all) = (&self.rises_above_zero, &self.blocks_all);
             self.first_blocking(origin, cos, sin, max_range_m, |i| {
-                (rises[i / 64] >> (i % 64)) & 1 != 0 && heights[i] >= z_m
+                bit(rises, i) && (bit(blocks_all, i) || heights[i] >= z_m)
             })
         } else {
             self.first_blocking(origin, cos, sin, max_range_m, |i| heights[i] >= z_m)
@@ -101,8 +107,12 @@ impl SensingWorld {
         let max_t = max_range_m / g.resolution_m;
         // Cells entered at or before `max_t`: those left before the next float, plus the one in
         // which the beam reaches it.
-        let (i, t_entry) =
-            GridRay::new(g, origin, cos, sin).walk_to(g.width, g.height, max_t.next_up(), &blocks)?;
+        let (i, t_entry) = GridRay::new(g, origin, cos, sin).walk_to(
+            g.width,
+            g.height,
+            max_t.next_up(),
+            &blocks,
+        )?;
         blocks(i).then(|| t_entry * g.resolution_m)
     }
 
