@@ -114,16 +114,24 @@ impl GridRay {
         // x crossing pending minus y crossing pending: the next step is along x when negative
         // (ties go to y, as in `advance`). |d| < 2^62: see `FixedCrossings::NEVER`.
         let mut d = plan.x.first as i64 - plan.y.first as i64;
-        let mut x_steps = 0usize;
+        let start = index;
         for step in 0..plan.visits {
             if visit(index) {
+                // The steps along x, from the index moved: x·col_offset + (step − x)·row_offset
+                // (exact in f64: integers far below 2^53; x = 0 when no step can go along x).
+                let moved = index.wrapping_sub(start) as isize;
+                let per_x_step = col_offset - row_offset;
+                let x_steps = if per_x_step == 0 || col_offset == 0 {
+                    0
+                } else {
+                    ((moved - step as isize * row_offset) as f64 / per_x_step as f64) as usize
+                };
                 return Some((index, self.t_entry_after(x_steps, step - x_steps)));
             }
             let along_x = d < 0;
             d += select_unpredictable(along_x, dx, -dy);
             index =
                 index.wrapping_add_signed(select_unpredictable(along_x, col_offset, row_offset));
-            x_steps += usize::from(along_x);
         }
         // Reaching the end, the walk crossed every boundary before it.
         let end = plan.end;
@@ -200,7 +208,7 @@ impl AxisCrossings {
         // 2⁻³⁰ of 1/step, so it is off by one at most below 2²⁹ crossings) corrected exactly;
         // an integer division costs more than the rest of a ray's set-up.
         let span = time - self.first - 1;
-        let mut k = (span as f64 * self.rate) as u64;
+        let mut k = (span as i64 as f64 * self.rate) as i64 as u64;
         while k > 0 && k * self.step > span {
             k -= 1;
         }
@@ -246,9 +254,9 @@ impl FixedCrossings {
 
     fn fixed(t: f64) -> u64 {
         let units = t * Self::ONE;
-        // `as` saturates: a negative time becomes 0.
         if units < Self::NEVER as f64 {
-            (units + 0.5) as u64
+            // In [0, 2^61) (a negative time is 0): the signed conversion is one instruction.
+            (units + 0.5).max(0.0) as i64 as u64
         } else {
             Self::NEVER
         }
@@ -334,10 +342,13 @@ fn floor(x: f64) -> f64 {
 
 #[inline]
 fn axis(p: f64, cell: f64, dir: f64) -> (i32, f64, f64) {
+    // One division: the first crossing is the fraction of the cell left times t_delta.
     if dir > 0.0 {
-        (1, 1.0 / dir, (cell + 1.0 - p) / dir)
+        let t_delta = 1.0 / dir;
+        (1, t_delta, (cell + 1.0 - p) * t_delta)
     } else if dir < 0.0 {
-        (-1, -1.0 / dir, (p - cell) / -dir)
+        let t_delta = -1.0 / dir;
+        (-1, t_delta, (p - cell) * t_delta)
     } else {
         (0, f64::INFINITY, f64::INFINITY)
     }
@@ -467,5 +478,8 @@ mod tests {
         // A NaN end is never reached: the walk runs to the border.
         let end = ray.walk_to(10, 1, f64::NAN, |_| false);
         assert_eq!(end, None);
+        // An end at or before the start is reached in the first cell, which is not visited.
+        let end = ray.walk_to(10, 1, -2.0, |_| panic!("nothing to visit"));
+        assert_eq!(end, Some((0, 0.0)));
     }
 }
