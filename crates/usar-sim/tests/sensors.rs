@@ -39,8 +39,15 @@ proptest! {
                 prop_assert!(!g.contains(cell) || !scene.is_obstacle(cell), "beam {i} crosses occupied {cell:?} at {d} < {r}");
             }
             if r.is_finite() {
-                let p = Point2::new(x, y).offset(a, f64::from(r) + 1e-6);
-                prop_assert!(scene.is_obstacle(g.world_to_cell(p)));
+                // Just past the range the beam is in an occupied cell. "Just past": the range
+                // is an f32 (off by up to 1.2e-7 m at 3 m), and a beam that clips a cell's
+                // corner crosses it in less than 1e-6 m (this failed at 1e-6 alone, before and
+                // after the walk went fixed-point, on x = 2.3225…, y = 2.5417…, θ = 1.2871…).
+                let occupied_past = |d: f64| {
+                    let p = Point2::new(x, y).offset(a, f64::from(r) + d);
+                    scene.is_obstacle(g.world_to_cell(p))
+                };
+                prop_assert!([3e-7, 1e-6, 1e-7, 3e-8].into_iter().any(occupied_past), "beam {i} ends in free space at {r}");
             }
         }
     }
@@ -104,6 +111,34 @@ proptest! {
             }
         }
     }
+}
+
+#[test]
+fn a_beam_clipping_a_wall_corner_ends_inside_that_wall_cell() {
+    // Beam 234 crosses cell (21, 26) over less than 1e-6 m near its corner (22, 27).
+    let scene = random_scene(&[(21, 26)]);
+    let world = SensingWorld::new(&scene);
+    let (x, y, theta) = (2.322509504547689, 2.5417432799339856, 1.2870802101779544);
+    let spec = LaserSpec {
+        range_noise_sd_m: 0.0,
+        max_range_m: 3.0,
+        ..LaserSpec::default()
+    };
+    let scan = LaserModel::new(spec).scan(
+        &world,
+        Pose2::new(x, y, theta),
+        0.0,
+        &mut Pcg64Mcg::seed_from_u64(1),
+    );
+    let r = f64::from(scan.ranges_m[234]);
+    let a = scan.beam_angle(234);
+    let cell_at = |d: f64| {
+        scene
+            .geometry()
+            .world_to_cell(Point2::new(x, y).offset(a, d))
+    };
+    assert_eq!(cell_at(r + 3e-8), Cell::new(21, 26));
+    assert_eq!(cell_at(r - 1e-6), Cell::new(22, 26));
 }
 
 #[test]
