@@ -91,8 +91,8 @@ pub struct OccupancyGrid {
 struct ChangeLog {
     /// Cells whose class changed since the log was last drained.
     changed: Vec<u32>,
-    /// Grid width (cells).
-    width: usize,
+    /// Row of a cell index, without a division.
+    rows: RowOfIndex,
     tiles_x: usize,
     dirty_tiles: Vec<bool>,
     known_cells: usize,
@@ -108,8 +108,91 @@ impl ChangeLog {
             self.known_cells = self.known_cells + usize::from(co == CellClass::Unknown)
                 - usize::from(cn == CellClass::Unknown);
         }
-        let (row, col) = (i / self.width, i % self.width);
+        let (row, col) = self.rows.row_and_col(i);
         self.dirty_tiles[(row >> TILE_SHIFT) * self.tiles_x + (col >> TILE_SHIFT)] = true;
+    }
+}
+
+/// Row and column of a row-major cell index by a multiplication (Lemire, Kaser & Kurz 2019,
+/// "Faster remainder by direct computation": for 32-bit n and d, ⌊n/d⌋ = ⌊c·n / 2⁶⁴⌋ with
+/// c = ⌈2⁶⁴/d⌉); a division costs tens of cycles on every cell an update changes.
+#[derive(Clone, Copy, Debug)]
+struct RowOfIndex {
+    width: usize,
+    /// ⌈2⁶⁴/width⌉, or 0 where the identity does not hold (width 1, or indices beyond 32 bits).
+    multiplier: u64,
+}
+
+impl RowOfIndex {
+    fn new(width: usize, cells: usize) -> Self {
+        let fits = width >= 2 && cells <= u32::MAX as usize;
+        Self {
+            width,
+            multiplier: if fits { u64::MAX / width as u64 + 1 } else { 0 },
+        }
+    }
+
+    #[inline]
+    fn row_and_col(&self, i: usize) -> (usize, usize) {
+        let row = if self.multiplier == 0 {
+            i / self.width.max(1)
+        } else {
+            ((u128::from(self.multiplier) * i as u128) >> 64) as usize
+        };
+        (row, i - row * self.width)
+    }
+}
+
+/// An occupancy grid's cells with what must change with them: its values, the bitmap of cells a
+/// miss leaves unchanged, the miss stamps and the change log.
+struct Cells<'a> {
+    params: &'a OccupancyParams,
+    after_miss: &'a [i8; 256],
+    logodds: &'a mut [i8],
+    unchanged_by_miss: &'a mut [u64],
+    stamp: &'a mut [u8],
+    log: &'a mut ChangeLog,
+}
+
+impl Cells<'_> {
+    /// Sets a cell's value, logging a class change and marking its tile dirty.
+    #[inline(always)]
+    fn set(&mut self, i: usize, new: i8) {
+        let old = self.logodds[i];
+        if new != old {
+            self.write(i, old, new);
+        }
+    }
+
+    /// Writes `new` over `old` (`new != old`) in cell i, keeping the bitmap and the log.
+    #[inline]
+    fn write(&mut self, i: usize, old: i8, new: i8) {
+        self.logodds[i] = new;
+        let unchanged = self.after_miss[usize::from(new as u8)] == new;
+        let (word, bit) = (i / 64, i % 64);
+        self.unchanged_by_miss[word] =
+            (self.unchanged_by_miss[word] & !(1 << bit)) | (u64::from(unchanged) << bit);
+        self.log.record(self.params, i, old, new);
+    }
+
+    /// A miss on cell i, at most once per scan: the common case, a cell that a miss leaves
+    /// unchanged (saturated free), is one bit test.
+    #[inline(always)]
+    fn miss_at(&mut self, i: usize, stamp_now: u8) {
+        if (self.unchanged_by_miss[i / 64] >> (i % 64)) & 1 == 0 {
+            self.change_by_miss(i, stamp_now);
+        }
+    }
+
+    /// A miss on cell i that changes it, unless it took one this scan. (A cell that a miss
+    /// leaves unchanged needs no stamp: every later miss in the scan leaves it unchanged too.)
+    #[inline(never)]
+    fn change_by_miss(&mut self, i: usize, stamp_now: u8) {
+        if self.stamp[i] != stamp_now {
+            self.stamp[i] = stamp_now;
+            let old = self.logodds[i];
+            self.write(i, old, self.after_miss[usize::from(old as u8)]);
+        }
     }
 }
 
@@ -149,7 +232,7 @@ impl OccupancyGrid {
             hits: Vec::new(),
             log: ChangeLog {
                 changed: Vec::new(),
-                width: geometry.width as usize,
+                rows: RowOfIndex::new(geometry.width as usize, n),
                 tiles_x,
                 dirty_tiles: vec![false; tiles_x * tiles_y],
                 known_cells: 0,
@@ -197,43 +280,16 @@ impl OccupancyGrid {
         into.append(&mut self.log.changed);
     }
 
-    /// Sets a cell's value, logging a class change and marking its tile dirty.
-    #[inline(always)]
-    fn set(&mut self, i: usize, new: i8) {
-        let old = self.logodds[i];
-        if new != old {
-            self.write(i, old, new);
-        }
-    }
-
-    /// Writes `new` over `old` (`new != old`) in cell i, keeping the bitmap and the log.
-    #[inline]
-    fn write(&mut self, i: usize, old: i8, new: i8) {
-        self.logodds[i] = new;
-        let unchanged = self.after_miss[usize::from(new as u8)] == new;
-        let (word, bit) = (i / 64, i % 64);
-        self.unchanged_by_miss[word] =
-            (self.unchanged_by_miss[word] & !(1 << bit)) | (u64::from(unchanged) << bit);
-        self.log.record(&self.params, i, old, new);
-    }
-
-    /// A miss on cell i, at most once per scan: the common case, a cell that a miss leaves
-    /// unchanged (saturated free), is one bit test.
-    #[inline(always)]
-    fn miss_at(&mut self, i: usize, stamp_now: u8) {
-        if (self.unchanged_by_miss[i / 64] >> (i % 64)) & 1 == 0 {
-            self.change_by_miss(i, stamp_now);
-        }
-    }
-
-    /// A miss on cell i that changes it, unless it took one this scan. (A cell that a miss
-    /// leaves unchanged needs no stamp: every later miss in the scan leaves it unchanged too.)
-    #[inline(never)]
-    fn change_by_miss(&mut self, i: usize, stamp_now: u8) {
-        if self.stamp[i] != stamp_now {
-            self.stamp[i] = stamp_now;
-            let old = self.logodds[i];
-            self.write(i, old, self.after_miss[usize::from(old as u8)]);
+    /// The cells and their bookkeeping, borrowed as slices so that a ray walk keeps their
+    /// addresses in registers across the out-of-line slow path.
+    fn cells(&mut self) -> Cells<'_> {
+        Cells {
+            params: &self.params,
+            after_miss: &self.after_miss,
+            logodds: &mut self.logodds,
+            unchanged_by_miss: &mut self.unchanged_by_miss,
+            stamp: &mut self.stamp,
+            log: &mut self.log,
         }
     }
 
@@ -254,7 +310,10 @@ impl OccupancyGrid {
         // Beam direction relative to the heading, advanced by rotation (no sin_cos per beam).
         let (mut bc, mut bs) = (c0, s0);
         let origin = scan.pose.position();
-        self.hits.clear();
+        let mut hits = std::mem::take(&mut self.hits);
+        hits.clear();
+        let after_hit = self.after_hit;
+        let mut cells = self.cells();
         for &range in &scan.ranges_m {
             let (dc, ds) = (c * bc - s * bs, s * bc + c * bs);
             let hit = range.is_finite();
@@ -267,27 +326,26 @@ impl OccupancyGrid {
             // takes the hit (a return) or a miss (no return within the maximum range).
             let ray = GridRay::new(&g, origin, dc, ds);
             let end = ray.walk_to(g.width, g.height, reach_t, |i| {
-                self.miss_at(i, stamp_now);
+                cells.miss_at(i, stamp_now);
                 false
             });
             if let Some((i, _)) = end {
                 if hit {
-                    self.hits.push(i as u32);
+                    hits.push(i as u32);
                 } else {
-                    self.miss_at(i, stamp_now);
+                    cells.miss_at(i, stamp_now);
                 }
             }
             (bc, bs) = (bc * ci - bs * si, bs * ci + bc * si);
         }
-        let mut hits = std::mem::take(&mut self.hits);
         hits.sort_unstable();
         hits.dedup();
         for &i in &hits {
             let i = i as usize;
-            let old = self.logodds[i];
-            let new = self.after_hit[usize::from(old as u8)];
+            let old = cells.logodds[i];
+            let new = after_hit[usize::from(old as u8)];
             if new != old {
-                self.write(i, old, new);
+                cells.write(i, old, new);
             }
         }
         self.hits = hits;
@@ -347,7 +405,7 @@ impl OccupancyGrid {
                     } else {
                         NEVER_OBSERVED
                     };
-                    self.set(span.start + k, target);
+                    self.cells().set(span.start + k, target);
                 }
             }
         }
@@ -417,6 +475,30 @@ mod tests {
         assert_eq!(merged.logodds()[g.index(Cell::new(15, 5))], 18);
         assert_eq!(merged.logodds()[g.index(Cell::new(10, 5))], -8);
         assert_eq!(merged.known_cells(), 11);
+    }
+
+    #[test]
+    fn row_of_index_by_multiplication_equals_division() {
+        for width in [
+            1usize,
+            2,
+            3,
+            7,
+            32,
+            100,
+            999,
+            1000,
+            1024,
+            4095,
+            65_537,
+            1 << 20,
+        ] {
+            let rows = RowOfIndex::new(width, u32::MAX as usize);
+            let near_ends = (0..2000).chain(u32::MAX as usize - 2000..=u32::MAX as usize);
+            for i in near_ends.chain((0..4000).map(|k| k * 1_073_741 % u32::MAX as usize)) {
+                assert_eq!(rows.row_and_col(i), (i / width, i % width), "{i} / {width}");
+            }
+        }
     }
 
     /// The update as first written, before its speed-ups (tabulated updates, the bitmap of
