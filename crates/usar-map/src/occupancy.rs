@@ -4,11 +4,16 @@
 //! Each cell stores l = 10·ln(p / (1 − p)) as an `i8`, clamped to ±[`LOGODDS_LIMIT`], or
 //! [`NEVER_OBSERVED`] until a beam first reaches it: "unknown" means never observed, so a cell
 //! that sees contradictory evidence (a wall surface grazed by noisy beams) stays known and does
-//! not reappear as a frontier. A scan updates every cell at most once: cells a beam crosses before its return get the miss
-//! increment, the cell of the return gets the hit increment (applied after all misses, so a wall
-//! grazed by one beam and hit by another ends up occupied). Class changes are logged for
-//! incremental consumers (frontiers, inflation) and updated 32×32 tiles are marked dirty for
-//! merging.
+//! not reappear as a frontier. A scan updates every cell at most once: cells a beam crosses
+//! before its return get the miss increment, the cell of the return gets the hit increment
+//! (applied after all misses, so a wall grazed by one beam and hit by another ends up occupied).
+//! Class changes are logged for incremental consumers (frontiers, inflation) and updated 32×32
+//! tiles are marked dirty for merging.
+//!
+//! Speed: most cells a beam crosses are saturated free space, which a miss leaves unchanged; a
+//! bitmap marks them, so such a cell costs one bit test (the bitmap of a 1000 × 1000 grid is
+//! 125 kB and stays in cache) and needs no per-scan stamp, since every later miss in the scan
+//! leaves it unchanged too. The other cells take the tabulated update and a u8 stamp.
 
 use usar_sim::sensors::LaserScan;
 use usar_world::{Cell, Grid, GridGeometry, GridRay};
@@ -68,9 +73,8 @@ pub struct OccupancyGrid {
     geometry: GridGeometry,
     params: OccupancyParams,
     logodds: Vec<i8>,
-    /// A cell's value after a miss, indexed by its value before (as `u8`): the update of
-    /// [`OccupancyGrid::apply`] tabulated, so a cell the miss leaves unchanged (saturated free)
-    /// costs one load and one comparison.
+    /// A cell's value after a miss, indexed by its value before (as `u8`): [`updated`]
+    /// tabulated.
     after_miss: [i8; 256],
     /// A cell's value after a hit, indexed likewise.
     after_hit: [i8; 256],

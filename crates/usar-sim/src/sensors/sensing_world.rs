@@ -7,6 +7,7 @@
 //! so the walk reads one bit per cell (a bitmap of a 1000 × 1000 grid is 125 kB and stays in
 //! cache), a second one on rising cells and the height itself only on raised floor.
 
+use std::cmp::Ordering;
 use usar_world::{GridGeometry, GridRay, Point2, Scene};
 
 /// Blocking heights of a scene, built once and shared by every robot's sensors.
@@ -48,7 +49,10 @@ impl SensingWorld {
         };
         Self {
             geometry: *scene.geometry(),
-            rises_above_zero: bitmap(|h| !(h <= 0.0)),
+            // Not ≤ 0, NaN included (its height then decides, as it would without the bitmap).
+            rises_above_zero: bitmap(|h| {
+                !matches!(h.partial_cmp(&0.0), Some(Ordering::Less | Ordering::Equal))
+            }),
             blocks_all: bitmap(|h| h == f32::INFINITY),
             blocking_height_m,
         }
@@ -113,7 +117,7 @@ impl SensingWorld {
             max_t.next_up(),
             &blocks,
         )?;
-        blocks(i).then(|| t_entry * g.resolution_m)
+        blocks(i).then_some(t_entry * g.resolution_m)
     }
 
     /// Distance (m, along the 3-D beam) from a sensor at (`origin`, `z0_m`) looking in horizontal
