@@ -12,8 +12,9 @@
 //!
 //! Speed: most cells a beam crosses are saturated free space, which a miss leaves unchanged; a
 //! bitmap marks them, so such a cell costs one bit test (the bitmap of a 1000 × 1000 grid is
-//! 125 kB and stays in cache) and needs no per-scan stamp, since every later miss in the scan
-//! leaves it unchanged too. The other cells take the tabulated update and a u8 stamp.
+//! 125 kB and stays in cache) and needs no mark against a second miss in the scan, since every
+//! later miss leaves it unchanged too. The other cells take the tabulated update and a bit in a
+//! second bitmap, cleared at the end of the scan.
 
 use usar_sim::sensors::LaserScan;
 use usar_world::{Cell, Grid, GridGeometry, GridRay};
@@ -81,10 +82,10 @@ pub struct OccupancyGrid {
     /// Bit `i % 64` of word `i / 64` is set when a miss leaves cell i unchanged
     /// (`after_miss[l] == l`): what a beam crossing saturated free space reads.
     unchanged_by_miss: Vec<u64>,
-    /// Scan number (1 ..= 255, wrapping with a reset) that last changed each cell by a miss:
-    /// dedupes misses within one scan.
-    stamp: Vec<u8>,
-    scan_number: u8,
+    /// Bit i set when cell i was changed by a miss in the scan being integrated: dedupes misses.
+    missed_this_scan: Vec<u64>,
+    /// Cells whose `missed_this_scan` bit is set, to clear it after the scan.
+    missed_cells: Vec<u32>,
     hits: Vec<u32>,
     log: ChangeLog,
 }
@@ -148,13 +149,14 @@ impl RowOfIndex {
 }
 
 /// An occupancy grid's cells with what must change with them: its values, the bitmap of cells a
-/// miss leaves unchanged, the miss stamps and the change log.
+/// miss leaves unchanged, the marks of this scan's misses and the change log.
 struct Cells<'a> {
     params: &'a OccupancyParams,
     after_miss: &'a [i8; 256],
     logodds: &'a mut [i8],
     unchanged_by_miss: &'a mut [u64],
-    stamp: &'a mut [u8],
+    missed_this_scan: &'a mut [u64],
+    missed_cells: &'a mut Vec<u32>,
     log: &'a mut ChangeLog,
 }
 
@@ -182,18 +184,20 @@ impl Cells<'_> {
     /// A miss on cell i, at most once per scan: the common case, a cell that a miss leaves
     /// unchanged (saturated free), is one bit test.
     #[inline(always)]
-    fn miss_at(&mut self, i: usize, stamp_now: u8) {
+    fn miss_at(&mut self, i: usize) {
         if (self.unchanged_by_miss[i / 64] >> (i % 64)) & 1 == 0 {
-            self.change_by_miss(i, stamp_now);
+            self.change_by_miss(i);
         }
     }
 
     /// A miss on cell i that changes it, unless it took one this scan. (A cell that a miss
-    /// leaves unchanged needs no stamp: every later miss in the scan leaves it unchanged too.)
+    /// leaves unchanged needs no mark: every later miss in the scan leaves it unchanged too.)
     #[inline(never)]
-    fn change_by_miss(&mut self, i: usize, stamp_now: u8) {
-        if self.stamp[i] != stamp_now {
-            self.stamp[i] = stamp_now;
+    fn change_by_miss(&mut self, i: usize) {
+        let (word, bit) = (i / 64, 1u64 << (i % 64));
+        if self.missed_this_scan[word] & bit == 0 {
+            self.missed_this_scan[word] |= bit;
+            self.missed_cells.push(i as u32);
             let old = self.logodds[i];
             self.write(i, old, self.after_miss[usize::from(old as u8)]);
         }
@@ -231,8 +235,8 @@ impl OccupancyGrid {
             after_hit: update_table(params.hit),
             // A miss always changes a never-observed cell: no bit is set.
             unchanged_by_miss: vec![0; n.div_ceil(64)],
-            stamp: vec![0; n],
-            scan_number: 0,
+            missed_this_scan: vec![0; n.div_ceil(64)],
+            missed_cells: Vec::new(),
             hits: Vec::new(),
             log: ChangeLog {
                 changed: Vec::new(),
@@ -292,7 +296,8 @@ impl OccupancyGrid {
             after_miss: &self.after_miss,
             logodds: &mut self.logodds,
             unchanged_by_miss: &mut self.unchanged_by_miss,
-            stamp: &mut self.stamp,
+            missed_this_scan: &mut self.missed_this_scan,
+            missed_cells: &mut self.missed_cells,
             log: &mut self.log,
         }
     }
@@ -300,12 +305,6 @@ impl OccupancyGrid {
     /// Integrates one laser scan taken at `scan.pose` (the pose is trusted: localisation is
     /// given, as in paper 002's simulations).
     pub fn integrate_scan(&mut self, scan: &LaserScan) {
-        self.scan_number = self.scan_number.wrapping_add(1);
-        if self.scan_number == 0 {
-            self.stamp.fill(0);
-            self.scan_number = 1;
-        }
-        let stamp_now = self.scan_number;
         let g = self.geometry;
         let inv_res = 1.0 / g.resolution_m;
         let (s, c) = scan.pose.theta.sin_cos();
@@ -330,14 +329,14 @@ impl OccupancyGrid {
             // takes the hit (a return) or a miss (no return within the maximum range).
             let ray = GridRay::new(&g, origin, dc, ds);
             let end = ray.walk_to(g.width, g.height, reach_t, |i| {
-                cells.miss_at(i, stamp_now);
+                cells.miss_at(i);
                 false
             });
             if let Some((i, _)) = end {
                 if hit {
                     hits.push(i as u32);
                 } else {
-                    cells.miss_at(i, stamp_now);
+                    cells.miss_at(i);
                 }
             }
             (bc, bs) = (bc * ci - bs * si, bs * ci + bc * si);
@@ -352,6 +351,10 @@ impl OccupancyGrid {
                 cells.write(i, old, new);
             }
         }
+        for &i in cells.missed_cells.iter() {
+            cells.missed_this_scan[i as usize / 64] = 0;
+        }
+        cells.missed_cells.clear();
         self.hits = hits;
     }
 
@@ -506,7 +509,8 @@ mod tests {
     }
 
     /// The update as first written, before its speed-ups (tabulated updates, the bitmap of
-    /// cells a miss leaves unchanged, u8 stamps): the reference the fast one must match.
+    /// cells a miss leaves unchanged, a bitmap of the scan's misses): the reference the fast one
+    /// must match.
     struct ReferenceGrid {
         params: OccupancyParams,
         width: usize,
@@ -647,8 +651,8 @@ mod tests {
     }
 
     /// The fast update matches the reference on every value, the change log (in order), the
-    /// count of known cells and the dirty tiles, through hundreds of scans (past the u8 stamp
-    /// wrap), merges, and sensor models whose miss saturates, is zero or is positive.
+    /// count of known cells and the dirty tiles, through hundreds of scans, merges, and sensor
+    /// models whose miss saturates, is zero or is positive.
     #[test]
     fn integration_matches_the_reference_update_exactly() {
         use rand::SeedableRng;
