@@ -80,11 +80,11 @@ pub struct OccupancyGrid {
     /// A cell's value after a hit, indexed likewise.
     after_hit: [i8; 256],
     /// Bit `i % 64` of word `i / 64` is set when a miss leaves cell i unchanged
-    /// (`after_miss[l] == l`): what a beam crossing saturated free space reads.
+    /// (`after_miss[l] == l`): what a beam crossing saturated free space reads. While a scan is
+    /// integrated it is also set on the cells a miss changed in that scan, which must take no
+    /// second miss; it is made true again after the scan.
     unchanged_by_miss: Vec<u64>,
-    /// Bit i set when cell i was changed by a miss in the scan being integrated: dedupes misses.
-    missed_this_scan: Vec<u64>,
-    /// Cells whose `missed_this_scan` bit is set, to clear it after the scan.
+    /// Cells a miss changed in the scan being integrated.
     missed_cells: Vec<u32>,
     hits: Vec<u32>,
     log: ChangeLog,
@@ -155,7 +155,6 @@ struct Cells<'a> {
     after_miss: &'a [i8; 256],
     logodds: &'a mut [i8],
     unchanged_by_miss: &'a mut [u64],
-    missed_this_scan: &'a mut [u64],
     missed_cells: &'a mut Vec<u32>,
     log: &'a mut ChangeLog,
 }
@@ -190,17 +189,28 @@ impl Cells<'_> {
         }
     }
 
-    /// A miss on cell i that changes it, unless it took one this scan. (A cell that a miss
-    /// leaves unchanged needs no mark: every later miss in the scan leaves it unchanged too.)
+    /// A miss on cell i, which it changes, and which then takes no other miss this scan: its
+    /// bit is set until [`Cells::end_of_scan`]. (A cell that a miss leaves unchanged needs no
+    /// such mark: every later miss in the scan leaves it unchanged too.)
     #[inline(never)]
     fn change_by_miss(&mut self, i: usize) {
-        let (word, bit) = (i / 64, 1u64 << (i % 64));
-        if self.missed_this_scan[word] & bit == 0 {
-            self.missed_this_scan[word] |= bit;
-            self.missed_cells.push(i as u32);
-            let old = self.logodds[i];
-            self.write(i, old, self.after_miss[usize::from(old as u8)]);
+        let old = self.logodds[i];
+        self.write(i, old, self.after_miss[usize::from(old as u8)]);
+        self.unchanged_by_miss[i / 64] |= 1 << (i % 64);
+        self.missed_cells.push(i as u32);
+    }
+
+    /// Makes the bits of the cells missed this scan true again.
+    fn end_of_scan(&mut self) {
+        for &i in self.missed_cells.iter() {
+            let i = i as usize;
+            let l = self.logodds[i];
+            let unchanged = self.after_miss[usize::from(l as u8)] == l;
+            let (word, bit) = (i / 64, i % 64);
+            self.unchanged_by_miss[word] =
+                (self.unchanged_by_miss[word] & !(1 << bit)) | (u64::from(unchanged) << bit);
         }
+        self.missed_cells.clear();
     }
 }
 
@@ -235,7 +245,6 @@ impl OccupancyGrid {
             after_hit: update_table(params.hit),
             // A miss always changes a never-observed cell: no bit is set.
             unchanged_by_miss: vec![0; n.div_ceil(64)],
-            missed_this_scan: vec![0; n.div_ceil(64)],
             missed_cells: Vec::new(),
             hits: Vec::new(),
             log: ChangeLog {
@@ -296,7 +305,6 @@ impl OccupancyGrid {
             after_miss: &self.after_miss,
             logodds: &mut self.logodds,
             unchanged_by_miss: &mut self.unchanged_by_miss,
-            missed_this_scan: &mut self.missed_this_scan,
             missed_cells: &mut self.missed_cells,
             log: &mut self.log,
         }
@@ -351,10 +359,7 @@ impl OccupancyGrid {
                 cells.write(i, old, new);
             }
         }
-        for &i in cells.missed_cells.iter() {
-            cells.missed_this_scan[i as usize / 64] = 0;
-        }
-        cells.missed_cells.clear();
+        cells.end_of_scan();
         self.hits = hits;
     }
 
