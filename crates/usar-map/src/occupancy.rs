@@ -173,11 +173,18 @@ impl Cells<'_> {
     #[inline]
     fn write(&mut self, i: usize, old: i8, new: i8) {
         self.logodds[i] = new;
-        let unchanged = self.after_miss[usize::from(new as u8)] == new;
+        self.refresh_unchanged_by_miss(i);
+        self.log.record(self.params, i, old, new);
+    }
+
+    /// Sets cell i's bit in `unchanged_by_miss` from its value.
+    #[inline]
+    fn refresh_unchanged_by_miss(&mut self, i: usize) {
+        let l = self.logodds[i];
+        let unchanged = self.after_miss[usize::from(l as u8)] == l;
         let (word, bit) = (i / 64, i % 64);
         self.unchanged_by_miss[word] =
             (self.unchanged_by_miss[word] & !(1 << bit)) | (u64::from(unchanged) << bit);
-        self.log.record(self.params, i, old, new);
     }
 
     /// A miss on cell i, at most once per scan: the common case, a cell that a miss leaves
@@ -202,13 +209,8 @@ impl Cells<'_> {
 
     /// Makes the bits of the cells missed this scan true again.
     fn end_of_scan(&mut self) {
-        for &i in self.missed_cells.iter() {
-            let i = i as usize;
-            let l = self.logodds[i];
-            let unchanged = self.after_miss[usize::from(l as u8)] == l;
-            let (word, bit) = (i / 64, i % 64);
-            self.unchanged_by_miss[word] =
-                (self.unchanged_by_miss[word] & !(1 << bit)) | (u64::from(unchanged) << bit);
+        for k in 0..self.missed_cells.len() {
+            self.refresh_unchanged_by_miss(self.missed_cells[k] as usize);
         }
         self.missed_cells.clear();
     }
