@@ -4,7 +4,7 @@ use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
 use usar_sim::sensors::{LaserModel, LaserSpec, SensingWorld, ThermalSpec, read_thermal};
 use usar_sim::{RobotSpec, SimConfig, Simulation};
-use usar_world::{Cell, GridGeometry, HeatSource, Point2, Pose2, Scene, Victim, obstacle};
+use usar_world::{Cell, GridGeometry, GridRay, HeatSource, Point2, Pose2, Scene, Victim, obstacle};
 
 fn random_scene(walls: &[(i32, i32)]) -> Scene {
     let g = GridGeometry::new(40, 40, 0.1, Point2::new(0.0, 0.0));
@@ -39,16 +39,106 @@ proptest! {
                 prop_assert!(!g.contains(cell) || !scene.is_obstacle(cell), "beam {i} crosses occupied {cell:?} at {d} < {r}");
             }
             if r.is_finite() {
-                // The range ends on an occupied cell: one touches the end point (a beam that
-                // grazes a wall's corner ends exactly on it).
-                let p = Point2::new(x, y).offset(a, f64::from(r));
-                let touching = [(-1e-4, -1e-4), (-1e-4, 1e-4), (1e-4, -1e-4), (1e-4, 1e-4)]
-                    .iter()
-                    .any(|&(dx, dy)| scene.is_obstacle(g.world_to_cell(Point2::new(p.x + dx, p.y + dy))));
-                prop_assert!(touching, "beam {i} ends at {r} on no occupied cell");
+                // Just past the range the beam is in an occupied cell. "Just past": the range
+                // is an f32 (off by up to 1.2e-7 m at 3 m), and a beam that clips a cell's
+                // corner crosses it in less than 1e-6 m (this failed at 1e-6 alone, before and
+                // after the walk went fixed-point, on x = 2.3225…, y = 2.5417…, θ = 1.2871…).
+                let occupied_past = |d: f64| {
+                    let p = Point2::new(x, y).offset(a, f64::from(r) + d);
+                    scene.is_obstacle(g.world_to_cell(p))
+                };
+                prop_assert!([3e-7, 1e-6, 1e-7, 3e-8].into_iter().any(occupied_past), "beam {i} ends in free space at {r}");
             }
         }
     }
+}
+
+/// The horizontal cast as first written: blocking heights read cell by cell along `advance`.
+fn reference_cast(
+    scene: &Scene,
+    origin: Point2,
+    angle: f64,
+    z_m: f32,
+    max_range_m: f64,
+) -> Option<f64> {
+    let g = scene.geometry();
+    let (s, c) = angle.sin_cos();
+    let mut ray = GridRay::new(g, origin, c, s);
+    let max_t = max_range_m / g.resolution_m;
+    loop {
+        let i = ray.index_in(g.width, g.height)?;
+        let cell = g.cell_of_index(i);
+        let height = if scene.is_obstacle(cell) {
+            f32::INFINITY
+        } else {
+            scene.floor_height_m[cell]
+        };
+        if height >= z_m {
+            return Some(ray.t_entry * g.resolution_m);
+        }
+        ray.advance();
+        if ray.t_entry > max_t {
+            return None;
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// The fast cast (bitmaps of rising cells and obstacles, fixed-point walk) finds what the
+    /// reference finds, with raised floor, sunken floor and beams above, between and below the
+    /// floor heights.
+    #[test]
+    fn horizontal_cast_matches_the_reference_cast(
+        walls in proptest::collection::vec((0i32..40, 0i32..40), 0..60),
+        steps in proptest::collection::vec((0i32..40, 0i32..40, -0.4f32..0.6), 0..80),
+        x in -0.3f64..4.3, y in -0.3f64..4.3, z in -0.5f32..0.8, max_range in 0.0f64..6.0,
+    ) {
+        let mut scene = random_scene(&walls);
+        for &(c, r, h) in &steps {
+            scene.floor_height_m[Cell::new(c, r)] = h;
+        }
+        let world = SensingWorld::new(&scene);
+        for k in 0..36 {
+            let angle = -3.1 + k as f64 * 0.1723;
+            let (s, c) = angle.sin_cos();
+            let fast = world.cast_horizontal(Point2::new(x, y), c, s, z, max_range);
+            let slow = reference_cast(&scene, Point2::new(x, y), angle, z, max_range);
+            match (fast, slow) {
+                (None, None) => {}
+                (Some(a), Some(b)) => prop_assert!((a - b).abs() < 1e-6, "beam {k}: {a} vs {b}"),
+                ends => prop_assert!(false, "beam {k}: {ends:?}"),
+            }
+        }
+    }
+}
+
+#[test]
+fn a_beam_clipping_a_wall_corner_ends_inside_that_wall_cell() {
+    // Beam 234 crosses cell (21, 26) over less than 1e-6 m near its corner (22, 27).
+    let scene = random_scene(&[(21, 26)]);
+    let world = SensingWorld::new(&scene);
+    let (x, y, theta) = (2.322509504547689, 2.5417432799339856, 1.2870802101779544);
+    let spec = LaserSpec {
+        range_noise_sd_m: 0.0,
+        max_range_m: 3.0,
+        ..LaserSpec::default()
+    };
+    let scan = LaserModel::new(spec).scan(
+        &world,
+        Pose2::new(x, y, theta),
+        0.0,
+        &mut Pcg64Mcg::seed_from_u64(1),
+    );
+    let r = f64::from(scan.ranges_m[234]);
+    let a = scan.beam_angle(234);
+    let cell_at = |d: f64| {
+        scene
+            .geometry()
+            .world_to_cell(Point2::new(x, y).offset(a, d))
+    };
+    assert_eq!(cell_at(r + 3e-8), Cell::new(21, 26));
+    assert_eq!(cell_at(r - 1e-6), Cell::new(22, 26));
 }
 
 #[test]

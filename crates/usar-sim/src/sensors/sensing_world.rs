@@ -1,7 +1,13 @@
 //! The ground truth as the sensors see it: one flat grid of "blocking heights" — the floor height
 //! of each cell, or +∞ where a wall or furniture stands. A beam at height z is stopped by the
 //! first cell whose blocking height reaches z.
+//!
+//! Two bitmaps beside the heights mark the cells that rise above 0 m (walls, furniture, raised
+//! floor) and, among them, the obstacles: a beam above 0 m can only be stopped by a rising cell,
+//! so the walk reads one bit per cell (a bitmap of a 1000 × 1000 grid is 125 kB and stays in
+//! cache), a second one on rising cells and the height itself only on raised floor.
 
+use std::cmp::Ordering;
 use usar_world::{GridGeometry, GridRay, Point2, Scene};
 
 /// Blocking heights of a scene, built once and shared by every robot's sensors.
@@ -9,6 +15,10 @@ use usar_world::{GridGeometry, GridRay, Point2, Scene};
 pub struct SensingWorld {
     geometry: GridGeometry,
     blocking_height_m: Vec<f32>,
+    /// Bit `i % 64` of word `i / 64` is set when cell i's blocking height is not ≤ 0 m.
+    rises_above_zero: Vec<u64>,
+    /// Set when cell i's blocking height is +∞ (an obstacle).
+    blocks_all: Vec<u64>,
 }
 
 impl SensingWorld {
@@ -25,9 +35,25 @@ impl SensingWorld {
                     h
                 }
             })
-            .collect();
+            .collect::<Vec<f32>>();
+        let bitmap = |mark: fn(f32) -> bool| -> Vec<u64> {
+            blocking_height_m
+                .chunks(64)
+                .map(|heights| {
+                    heights
+                        .iter()
+                        .enumerate()
+                        .fold(0u64, |bits, (k, &h)| bits | (u64::from(mark(h)) << k))
+                })
+                .collect()
+        };
         Self {
             geometry: *scene.geometry(),
+            // Not ≤ 0, NaN included (its height then decides, as it would without the bitmap).
+            rises_above_zero: bitmap(|h| {
+                !matches!(h.partial_cmp(&0.0), Some(Ordering::Less | Ordering::Equal))
+            }),
+            blocks_all: bitmap(|h| h == f32::INFINITY),
             blocking_height_m,
         }
     }
@@ -56,21 +82,42 @@ impl SensingWorld {
         z_m: f32,
         max_range_m: f64,
     ) -> Option<f64> {
+        let heights = self.blocking_height_m.as_slice();
+        if z_m > 0.0 {
+            // A cell whose bit is clear has a height ≤ 0 < z_m: skip its height.
+            let bit = |bits: &[u64], i: usize| (bits[i / 64] >> (i % 64)) & 1 != 0;
+            let (rises, blocks_all) = (&self.rises_above_zero, &self.blocks_all);
+            self.first_blocking(origin, cos, sin, max_range_m, |i| {
+                bit(rises, i) && (bit(blocks_all, i) || heights[i] >= z_m)
+            })
+        } else {
+            self.first_blocking(origin, cos, sin, max_range_m, |i| heights[i] >= z_m)
+        }
+    }
+
+    /// Distance (m) from `origin` in direction (`cos`, `sin`) to the entry of the first cell
+    /// (by index) that `blocks`, or `None` if none does within `max_range_m` or before the beam
+    /// leaves the grid.
+    #[inline(always)]
+    fn first_blocking(
+        &self,
+        origin: Point2,
+        cos: f64,
+        sin: f64,
+        max_range_m: f64,
+        blocks: impl Fn(usize) -> bool,
+    ) -> Option<f64> {
         let g = &self.geometry;
         let max_t = max_range_m / g.resolution_m;
-        let (w, h) = (g.width, g.height);
-        let heights = self.blocking_height_m.as_slice();
-        let mut ray = GridRay::new(g, origin, cos, sin);
-        loop {
-            let i = ray.index_in(w, h)?;
-            if heights[i] >= z_m {
-                return Some(ray.t_entry * g.resolution_m);
-            }
-            ray.advance();
-            if ray.t_entry > max_t {
-                return None;
-            }
-        }
+        // Cells entered at or before `max_t`: those left before the next float, plus the one in
+        // which the beam reaches it.
+        let (i, t_entry) = GridRay::new(g, origin, cos, sin).walk_to(
+            g.width,
+            g.height,
+            max_t.next_up(),
+            &blocks,
+        )?;
+        blocks(i).then_some(t_entry * g.resolution_m)
     }
 
     /// Distance (m, along the 3-D beam) from a sensor at (`origin`, `z0_m`) looking in horizontal
