@@ -1,0 +1,439 @@
+//! Obstacle nodes (paper 004 §III-A-2, Figs. 4–5): the laser tilted down by θ returns the
+//! range L on level floor and l₁ < L on an obstacle, whose height is (L − l₁)·cos θ. While
+//! the robot drives across, these heights against the odometric distance form the obstacle
+//! profile; a least-squares line through a piece of it tells a slope (small residual
+//! variance) from stairs (variance above V_max).
+
+use usar_sim::sensors::{TiltedLaserSpec, TiltedScan};
+
+/// One tilted-laser return in the robot frame: forward and lateral distance of the hit on
+/// the floor, and its height above the floor under the robot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FloorHit {
+    pub forward_m: f64,
+    pub lateral_m: f64,
+    pub height_m: f64,
+}
+
+/// The returns of one tilted sweep. Beam i lies in the tilted plane at yaw φᵢ; with
+/// p = π/2 − θ its pitch below the horizon is asin(sin p·cos φᵢ), so a range r hits at height
+/// H − r·sin(pitch) — for the central beam H − r·cos θ = (L − r)·cos θ (Fig. 5).
+pub fn floor_hits(spec: &TiltedLaserSpec, scan: &TiltedScan) -> Vec<FloorHit> {
+    let p = std::f64::consts::FRAC_PI_2 - spec.tilt_from_vertical_rad;
+    let (sp, cp) = p.sin_cos();
+    scan.ranges_m
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &r)| {
+            let r = f64::from(r);
+            if !r.is_finite() {
+                return None;
+            }
+            let phi = scan.yaw_min_rad + i as f64 * scan.yaw_increment_rad;
+            let (sphi, cphi) = phi.sin_cos();
+            Some(FloorHit {
+                forward_m: r * cphi * cp,
+                lateral_m: r * sphi,
+                height_m: spec.mount_height_m - r * cphi * sp,
+            })
+        })
+        .collect()
+}
+
+/// Median forward distance and height of the hits under the robot's own track
+/// (|lateral| ≤ `half_width_m`), or `None` when there are none.
+pub fn track_sample(hits: &[FloorHit], half_width_m: f64) -> Option<FloorHit> {
+    let mut on_track: Vec<FloorHit> = hits
+        .iter()
+        .copied()
+        .filter(|h| h.lateral_m.abs() <= half_width_m)
+        .collect();
+    if on_track.is_empty() {
+        return None;
+    }
+    let mid = on_track.len() / 2;
+    on_track.sort_by(|a, b| a.height_m.total_cmp(&b.height_m));
+    let height_m = on_track[mid].height_m;
+    on_track.sort_by(|a, b| a.forward_m.total_cmp(&b.forward_m));
+    Some(FloorHit {
+        forward_m: on_track[mid].forward_m,
+        lateral_m: 0.0,
+        height_m,
+    })
+}
+
+/// Kind of an obstacle piece.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ObstacleShape {
+    Slope,
+    Stairs,
+}
+
+/// A non-level piece of the profile.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObstaclePiece {
+    /// Where it starts and ends along the path, metres from the start of the crossing.
+    pub start_m: f64,
+    pub end_m: f64,
+    /// Whether the floor rises in the direction of travel.
+    pub rising: bool,
+    pub shape: ObstacleShape,
+    /// Inclination of the least-squares line, radians (both shapes).
+    pub inclination_rad: f64,
+    /// Standard deviation of the residuals about that line, metres (√V).
+    pub residual_sd_m: f64,
+    /// Median rise of the steps found, metres (stairs only).
+    pub step_height_m: Option<f64>,
+}
+
+/// Whether the robot may drive onto the obstacle ahead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Passability {
+    /// Not enough of the obstacle seen yet.
+    Undecided,
+    Passable,
+    /// Steeper or higher than the robot can climb; the estimate that said so.
+    Impassable {
+        inclination_rad: f64,
+        step_m: Option<f64>,
+    },
+}
+
+/// Width of the bins the profile is reduced to, metres.
+const BIN_M: f64 = 0.05;
+/// Consecutive bin jumps above this are summed into one riser, metres.
+const JUMP_M: f64 = 0.02;
+/// A riser is a rise of more than this over at most [`RISER_RUN_M`]: lower ones are the
+/// roughness of a ramp on a grid.
+const RISER_MIN_M: f64 = 0.05;
+const RISER_RUN_M: f64 = 0.12;
+
+/// The obstacle profile of Fig. 4: (distance along the path, floor height) pairs, both
+/// relative to where the crossing started.
+#[derive(Clone, Debug, Default)]
+pub struct ObstacleProfile {
+    points: Vec<(f64, f64)>,
+}
+
+impl ObstacleProfile {
+    pub fn push(&mut self, along_m: f64, height_m: f64) {
+        if along_m.is_finite() && height_m.is_finite() {
+            self.points.push((along_m, height_m));
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// The profile reduced to the median height per [`BIN_M`] bin, ascending in distance.
+    fn bins(&self) -> Vec<(f64, f64)> {
+        let mut pts = self.points.clone();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < pts.len() {
+            let bin = (pts[i].0 / BIN_M).floor();
+            let mut zs = Vec::new();
+            let mut j = i;
+            while j < pts.len() && (pts[j].0 / BIN_M).floor() == bin {
+                zs.push(pts[j].1);
+                j += 1;
+            }
+            zs.sort_by(f64::total_cmp);
+            out.push(((bin + 0.5) * BIN_M, zs[zs.len() / 2]));
+            i = j;
+        }
+        out
+    }
+
+    /// Risers in the binned profile: (position, signed rise) of each group of consecutive
+    /// jumps that adds up to more than [`RISER_MIN_M`] within [`RISER_RUN_M`].
+    fn risers(bins: &[(f64, f64)]) -> Vec<(f64, f64)> {
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i + 1 < bins.len() {
+            let dz = bins[i + 1].1 - bins[i].1;
+            if dz.abs() <= JUMP_M {
+                i += 1;
+                continue;
+            }
+            let sign = dz.signum();
+            let start = bins[i].0;
+            let mut sum = 0.0;
+            let mut j = i;
+            while j + 1 < bins.len() {
+                let d = bins[j + 1].1 - bins[j].1;
+                if d.abs() <= JUMP_M || d.signum() != sign {
+                    break;
+                }
+                sum += d;
+                j += 1;
+            }
+            if sum.abs() > RISER_MIN_M && bins[j].0 - start <= RISER_RUN_M {
+                out.push(((start + bins[j].0) / 2.0, sum));
+            }
+            i = j.max(i + 1);
+        }
+        out
+    }
+
+    /// Judges the obstacle ahead for a robot that climbs `max_inclination_rad` and steps of
+    /// `max_step_m`, from the part of the profile beyond `from_m` (where it was detected).
+    pub fn passability(
+        &self,
+        from_m: f64,
+        judge_length_m: f64,
+        max_inclination_rad: f64,
+        max_step_m: f64,
+    ) -> Passability {
+        let bins: Vec<(f64, f64)> = self.bins().into_iter().filter(|b| b.0 >= from_m).collect();
+        let Some((first, last)) = bins.first().zip(bins.last()) else {
+            return Passability::Undecided;
+        };
+        let risers = Self::risers(&bins);
+        let step = risers.iter().map(|r| r.1.abs()).fold(0.0, f64::max);
+        let fit = line_fit(&bins);
+        if step > max_step_m {
+            return Passability::Impassable {
+                inclination_rad: fit.map_or(0.0, |f| f.slope.atan().abs()),
+                step_m: Some(step),
+            };
+        }
+        if last.0 - first.0 < judge_length_m {
+            return Passability::Undecided;
+        }
+        match fit {
+            Some(f) if risers.is_empty() && f.slope.atan().abs() > max_inclination_rad => {
+                Passability::Impassable {
+                    inclination_rad: f.slope.atan().abs(),
+                    step_m: None,
+                }
+            }
+            _ => Passability::Passable,
+        }
+    }
+
+    /// Cuts the profile into level and non-level pieces by the local grade over
+    /// ±`window_m` and describes every non-level piece at least `min_piece_m` long.
+    pub fn pieces(
+        &self,
+        window_m: f64,
+        level_grade_rad: f64,
+        min_piece_m: f64,
+        stairs_min_residual_sd_m: f64,
+    ) -> Vec<ObstaclePiece> {
+        let bins = self.bins();
+        if bins.len() < 3 {
+            return Vec::new();
+        }
+        let tan_level = level_grade_rad.tan();
+        let class: Vec<i8> = (0..bins.len())
+            .map(|i| {
+                let x = bins[i].0;
+                let lo = bins.iter().position(|b| b.0 >= x - window_m).unwrap_or(i);
+                let hi = bins.iter().rposition(|b| b.0 <= x + window_m).unwrap_or(i);
+                let dx = bins[hi].0 - bins[lo].0;
+                if dx < window_m {
+                    return 0;
+                }
+                let grade = (bins[hi].1 - bins[lo].1) / dx;
+                if grade > tan_level {
+                    1
+                } else if grade < -tan_level {
+                    -1
+                } else {
+                    0
+                }
+            })
+            .collect();
+        // Runs of one class.
+        let mut runs: Vec<(i8, usize, usize)> = Vec::new();
+        for (i, &c) in class.iter().enumerate() {
+            match runs.last_mut() {
+                Some(r) if r.0 == c => r.2 = i,
+                _ => runs.push((c, i, i)),
+            }
+        }
+        let mut pieces = Vec::new();
+        for &(c, a, b) in &runs {
+            if c == 0 {
+                continue;
+            }
+            let (start, end) = (bins[a].0, bins[b].0);
+            if end - start < min_piece_m {
+                continue;
+            }
+            // Fit inside the piece, away from the edges the grade window smears.
+            let inner: Vec<(f64, f64)> = if end - start > 2.0 * window_m + 0.2 {
+                bins[a..=b]
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0 >= start + window_m && p.0 <= end - window_m)
+                    .collect()
+            } else {
+                bins[a..=b].to_vec()
+            };
+            let Some(fit) = line_fit(&inner) else {
+                continue;
+            };
+            let shape = if fit.residual_sd > stairs_min_residual_sd_m {
+                ObstacleShape::Stairs
+            } else {
+                ObstacleShape::Slope
+            };
+            let lo = a.saturating_sub((window_m / BIN_M) as usize);
+            let hi = (b + (window_m / BIN_M) as usize).min(bins.len() - 1);
+            let mut rises: Vec<f64> = Self::risers(&bins[lo..=hi])
+                .into_iter()
+                .map(|r| r.1.abs())
+                .collect();
+            rises.sort_by(f64::total_cmp);
+            let step_height_m = (shape == ObstacleShape::Stairs && !rises.is_empty())
+                .then(|| rises[rises.len() / 2]);
+            pieces.push(ObstaclePiece {
+                start_m: start,
+                end_m: end,
+                rising: c > 0,
+                shape,
+                inclination_rad: fit.slope.atan().abs(),
+                residual_sd_m: fit.residual_sd,
+                step_height_m,
+            });
+        }
+        pieces
+    }
+}
+
+/// A least-squares line z = a + slope·x and the standard deviation of its residuals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineFit {
+    pub intercept: f64,
+    pub slope: f64,
+    pub residual_sd: f64,
+}
+
+/// Least-squares line through (x, z) points; `None` for fewer than two distinct x.
+pub fn line_fit(points: &[(f64, f64)]) -> Option<LineFit> {
+    let n = points.len() as f64;
+    if points.len() < 2 {
+        return None;
+    }
+    let (mx, mz) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx < 1e-12 {
+        return None;
+    }
+    let sxz: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - mz)).sum();
+    let slope = sxz / sxx;
+    let intercept = mz - slope * mx;
+    let var = points
+        .iter()
+        .map(|p| (p.1 - intercept - slope * p.0).powi(2))
+        .sum::<f64>()
+        / n;
+    Some(LineFit {
+        intercept,
+        slope,
+        residual_sd: var.sqrt(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn profile(f: impl Fn(f64) -> f64, to_m: f64) -> ObstacleProfile {
+        let mut p = ObstacleProfile::default();
+        let mut x = 0.0;
+        while x < to_m {
+            p.push(x, f(x));
+            x += 0.01;
+        }
+        p
+    }
+
+    #[test]
+    fn a_ramp_is_a_slope_of_its_inclination() {
+        let t = 20f64.to_radians().tan();
+        // Level 1 m, a ramp of 2.5 m on a 0.1 m grid, level again.
+        let p = profile(
+            |x| {
+                let cell = ((x - 1.0) / 0.1).floor() * 0.1 + 0.05;
+                t * cell.clamp(0.0, 2.5) * f64::from(u8::from(x >= 1.0))
+            },
+            5.0,
+        );
+        let pieces = p.pieces(0.3, 5f64.to_radians(), 0.2, 0.02);
+        assert_eq!(pieces.len(), 1, "{pieces:?}");
+        let s = pieces[0];
+        assert_eq!(s.shape, ObstacleShape::Slope);
+        assert!(s.rising);
+        assert!((s.inclination_rad.to_degrees() - 20.0).abs() < 1.5, "{s:?}");
+        assert!((s.start_m - 1.0).abs() < 0.35, "{s:?}");
+    }
+
+    #[test]
+    fn stairs_have_a_large_residual_and_their_step_height() {
+        // Level 1 m, four steps of 0.15 m every 0.3 m, then level.
+        let p = profile(
+            |x| {
+                if x < 1.0 {
+                    0.0
+                } else {
+                    (((x - 1.0) / 0.3).floor() + 1.0).min(4.0) * 0.15
+                }
+            },
+            4.0,
+        );
+        let pieces = p.pieces(0.3, 5f64.to_radians(), 0.2, 0.02);
+        assert_eq!(pieces.len(), 1, "{pieces:?}");
+        let s = pieces[0];
+        assert_eq!(s.shape, ObstacleShape::Stairs, "{s:?}");
+        assert!((s.step_height_m.unwrap() - 0.15).abs() < 0.02, "{s:?}");
+    }
+
+    #[test]
+    fn passability_follows_the_robot_limits() {
+        let t = 20f64.to_radians().tan();
+        let ramp = profile(|x| t * x.max(0.0), 0.5);
+        let crawler = ramp.passability(0.0, 0.25, 35f64.to_radians(), 0.2);
+        assert_eq!(crawler, Passability::Passable);
+        let wheeled = ramp.passability(0.0, 0.25, 15f64.to_radians(), 0.05);
+        assert!(matches!(wheeled, Passability::Impassable { .. }), "{wheeled:?}");
+        let step = profile(|x| if x < 0.2 { 0.0 } else { 0.15 }, 0.4);
+        assert!(matches!(
+            step.passability(0.0, 0.25, 35f64.to_radians(), 0.05),
+            Passability::Impassable { step_m: Some(_), .. }
+        ));
+        assert_eq!(
+            step.passability(0.0, 0.25, 35f64.to_radians(), 0.2),
+            Passability::Passable
+        );
+    }
+
+    #[test]
+    fn the_central_beam_height_is_l_minus_l1_times_cos_theta() {
+        let spec = TiltedLaserSpec {
+            beams: 1,
+            fov_rad: 0.0,
+            ..TiltedLaserSpec::default()
+        };
+        let l = spec.flat_floor_range_m();
+        let scan = TiltedScan {
+            pose: Default::default(),
+            yaw_min_rad: 0.0,
+            yaw_increment_rad: 0.0,
+            ranges_m: vec![(l - 0.2) as f32],
+        };
+        let h = floor_hits(&spec, &scan)[0];
+        let expect = 0.2 * spec.tilt_from_vertical_rad.cos();
+        assert!((h.height_m - expect).abs() < 1e-6, "{h:?}");
+    }
+}
