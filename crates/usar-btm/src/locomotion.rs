@@ -78,23 +78,27 @@ pub fn dead_end_turn(gains: Gains) -> Velocity {
     }
 }
 
-/// Distance to the nearest point in the side sector (45°–135° off the heading) of the
-/// followed wall, or the laser's range.
+/// Half width of the side sector in which the followed wall is looked for.
+const SIDE_SECTOR_HALF_RAD: f64 = 30.0 * std::f64::consts::PI / 180.0;
+
+/// Distance to the followed wall: the nearest point within 30° of the robot's right (or
+/// left) side. Narrow enough that a doorway the robot passes opens the sector (it turns
+/// in), wide enough that a wall ending behind the robot still guides it round the corner.
 pub fn side_distance(scan: &ScanView, right_side: bool) -> f64 {
-    let (lo, hi) = (45f64.to_radians(), 135f64.to_radians());
+    let side = std::f64::consts::FRAC_PI_2;
     scan.points
         .iter()
         .filter(|p| {
             let a = p.y.atan2(p.x);
             let a = if right_side { -a } else { a };
-            a >= lo && a <= hi
+            (a - side).abs() <= SIDE_SECTOR_HALF_RAD
         })
         .map(|p| p.x.hypot(p.y))
         .fold(scan.max_range_m, f64::min)
 }
 
 /// Wall following (§IV-B): keeps `distance_m` from the wall on the right (or left) side; a
-/// wall ahead closer than that distance plus a margin is turned away from on the spot.
+/// wall ahead closer than that distance is turned away from on the spot.
 pub fn wall_following(
     scan: &ScanView,
     right_side: bool,
@@ -104,7 +108,7 @@ pub fn wall_following(
     gains: Gains,
 ) -> Velocity {
     let front = scan.front_clearance(half_width_m + 0.1);
-    if front < distance_m + 0.2 {
+    if front < distance_m {
         let w = (gains.turn_gain * std::f64::consts::FRAC_PI_4).max(MIN_SPOT_TURN_RADPS);
         return Velocity {
             linear_mps: 0.0,

@@ -46,10 +46,6 @@ pub struct BuildConfig {
     /// A tilted-laser return is a wall, not floor, when the horizontal laser is blocked within
     /// this distance of it in the same direction.
     pub obstacle_wall_margin_m: f64,
-    /// Grades below this are level floor when the profile is cut into pieces.
-    pub level_grade_rad: f64,
-    /// Half window over which the local grade of the profile is taken (about half a robot).
-    pub grade_window_m: f64,
     /// V_max as a standard deviation: a piece whose residual about its least-squares line is
     /// larger is stairs, otherwise a slope. 2 cm lies between a ramp on a 0.1 m grid
     /// (≈ 1 cm) and stairs of 0.1 m rises (≈ 3 cm).
@@ -57,7 +53,8 @@ pub struct BuildConfig {
     /// Body inclination below which the robot stands level.
     pub level_attitude_rad: f64,
     /// The crossing of an obstacle ends after this distance driven on level floor with level
-    /// floor ahead.
+    /// floor ahead. (Obstacles are observed only while the robot stands level: a node is made
+    /// from each such observation when the robot starts to climb.)
     pub level_confirm_m: f64,
     /// Profile length that must be seen before passability is judged.
     pub judge_profile_m: f64,
@@ -90,7 +87,8 @@ pub struct BuildConfig {
     pub scan_matching: bool,
     /// A new key scan is taken after this distance ...
     pub keyframe_distance_m: f64,
-    /// ... or this turn.
+    /// ... or this turn (π: a 360° scan overlaps its key scan whatever the turn, and every
+    /// new key scan adds its own small error).
     pub keyframe_angle_rad: f64,
 
     // --- Run ---
@@ -114,8 +112,6 @@ impl Default for BuildConfig {
             free_space_exit_confirm_m: 1.0,
             obstacle_detect_height_m: 0.04,
             obstacle_wall_margin_m: 0.15,
-            level_grade_rad: 5f64.to_radians(),
-            grade_window_m: 0.3,
             stairs_min_residual_sd_m: 0.02,
             level_attitude_rad: 3f64.to_radians(),
             level_confirm_m: 0.6,
@@ -128,11 +124,11 @@ impl Default for BuildConfig {
             arrival_radius_m: 0.2,
             branch_target_m: 1.0,
             run_strip_m: 0.8,
-            wall_distance_m: 0.8,
+            wall_distance_m: 0.7,
             obstacle_speed_factor: 0.6,
             scan_matching: true,
             keyframe_distance_m: 1.0,
-            keyframe_angle_rad: 0.5,
+            keyframe_angle_rad: std::f64::consts::PI,
             max_time_s: 3600.0,
             dt_s: 0.1,
         }
@@ -148,7 +144,6 @@ impl BuildConfig {
             ("free_space_clearance_m", self.free_space_clearance_m),
             ("free_space_strip_half_m", self.free_space_strip_half_m),
             ("obstacle_detect_height_m", self.obstacle_detect_height_m),
-            ("grade_window_m", self.grade_window_m),
             ("stairs_min_residual_sd_m", self.stairs_min_residual_sd_m),
             ("approach_speed_mps", self.approach_speed_mps),
             ("turn_gain", self.turn_gain),
@@ -175,7 +170,6 @@ impl BuildConfig {
             ("merge_radius_m", self.merge_radius_m),
             ("free_space_exit_confirm_m", self.free_space_exit_confirm_m),
             ("obstacle_wall_margin_m", self.obstacle_wall_margin_m),
-            ("level_grade_rad", self.level_grade_rad),
             ("level_attitude_rad", self.level_attitude_rad),
             ("level_confirm_m", self.level_confirm_m),
             ("judge_profile_m", self.judge_profile_m),

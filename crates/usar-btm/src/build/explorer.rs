@@ -15,8 +15,8 @@ use super::{
     count_nodes,
 };
 use crate::locomotion::{
-    Gains, ModeInputs, RunMode, central_run, dead_end_turn, select_run_mode, target_approach,
-    wall_following,
+    Gains, ModeInputs, RunMode, central_run, dead_end_turn, select_run_mode, side_distance,
+    target_approach, wall_following,
 };
 use crate::model::{kind, subtype};
 use crate::store::BtmStore;
@@ -44,6 +44,8 @@ const STUCK_STEPS: u32 = 15;
 const RECOVERY_STEPS: u32 = 5;
 /// A free space must be driven this far before its exit may be declared, metres.
 const FREE_SPACE_MIN_M: f64 = 2.0;
+/// Less obstacle than this seen from level floor makes no node, metres.
+const OBSTACLE_MIN_LENGTH_M: f64 = 0.1;
 /// Time an approach may take before the robot settles for where it got, seconds.
 const APPROACH_PATIENCE_S: f64 = 20.0;
 
@@ -76,6 +78,8 @@ enum Phase {
     FreeSpace {
         entrance: u32,
         right_wall: bool,
+        /// Driving straight on until a wall is met (then it is followed).
+        seeking: bool,
         exit: ExitTracker,
         entered_driven_m: f64,
     },
@@ -83,13 +87,18 @@ enum Phase {
 
 struct Crossing {
     start_driven_m: f64,
-    start_z_m: f64,
+    /// The current observation, taken from level floor (x from `start_driven_m`).
     profile: ObstacleProfile,
-    /// Along-path position of the first return that showed the obstacle.
+    /// Whether the robot stands level and records `profile`.
+    observing: bool,
+    /// Along-path position of the first return that showed the current obstacle.
     detect_along_m: f64,
     judged: bool,
     level_run_m: f64,
     contact_steps: u32,
+    /// The last obstacle node made in this crossing and the largest inclination since.
+    last_node: Option<u32>,
+    max_inclination_rad: f64,
 }
 
 struct Route {
@@ -113,7 +122,6 @@ pub(super) struct Explorer<'a> {
     driven_m: f64,
     step_m: f64,
     last_odometry_m: f64,
-    z_m: f64,
     inclination_rad: f64,
     node: u32,
     mode: RunMode,
@@ -169,7 +177,6 @@ impl<'a> Explorer<'a> {
             driven_m: 0.0,
             step_m: 0.0,
             last_odometry_m: odometry.distance_m,
-            z_m: 0.0,
             inclination_rad: 0.0,
             node: 0,
             mode: RunMode::CentralRun,
@@ -205,6 +212,8 @@ impl<'a> Explorer<'a> {
             time_s: self.sim.time_s(),
             distance_m: robot.distance_m,
             collisions: robot.collisions,
+            scan_matches: self.loc.matched,
+            scan_match_rejections: self.loc.rejected,
             trajectory: self.trajectory,
             stop,
             btm,
@@ -234,10 +243,9 @@ impl<'a> Explorer<'a> {
         self.step_m = odometry.distance_m - self.last_odometry_m;
         self.last_odometry_m = odometry.distance_m;
         self.driven_m += self.step_m;
-        self.z_m += self.step_m * attitude.pitch_rad.tan();
         self.loc.predict(odometry.estimate);
-        let usable = !self.crossing() && self.inclination_rad < self.cfg.level_attitude_rad;
-        self.loc.correct(&self.view, usable);
+        let on_obstacle = self.crossing() || self.inclination_rad >= self.cfg.level_attitude_rad;
+        self.loc.correct(&self.view, on_obstacle);
         let robot = self.sim.robot(self.id);
         if robot.in_contact() {
             self.contact_steps += 1;
@@ -531,15 +539,16 @@ impl<'a> Explorer<'a> {
             Phase::FreeSpace {
                 entrance,
                 right_wall,
+                seeking,
                 exit,
                 entered_driven_m,
-            } => self.free_space(ex, entrance, right_wall, exit, entered_driven_m),
+            } => self.free_space(ex, entrance, right_wall, seeking, exit, entered_driven_m),
         }
     }
 
     /// The obstacle ahead on the robot's track, if the tilted laser sees one that is not a
-    /// wall.
-    fn detect_obstacle(&self) -> Option<Crossing> {
+    /// wall: the height and distance of its return.
+    fn obstacle_ahead(&self) -> Option<FloorHit> {
         let half = self.spec.width_m / 2.0;
         let s = track_sample(&self.hits, half)?;
         if s.height_m.abs() <= self.cfg.obstacle_detect_height_m {
@@ -551,25 +560,37 @@ impl<'a> Explorer<'a> {
                 return None;
             }
         }
+        Some(s)
+    }
+
+    /// Starts a crossing when a level robot sees an obstacle ahead.
+    fn detect_obstacle(&self) -> Option<Crossing> {
+        if self.inclination_rad >= self.cfg.level_attitude_rad {
+            return None;
+        }
+        let s = self.obstacle_ahead()?;
         let mut c = Crossing {
             start_driven_m: self.driven_m,
-            start_z_m: self.z_m,
             profile: ObstacleProfile::default(),
+            observing: true,
             detect_along_m: s.forward_m,
             judged: false,
             level_run_m: 0.0,
             contact_steps: 0,
+            last_node: None,
+            max_inclination_rad: 0.0,
         };
         self.record_profile(&mut c);
         Some(c)
     }
 
+    /// Adds the tilted laser's returns on the robot's track to the observation: heights above
+    /// the level floor the robot stands on, (L − l₁)·cos θ for the central beam.
     fn record_profile(&self, c: &mut Crossing) {
         let half = self.spec.width_m / 2.0;
         let along = self.driven_m - c.start_driven_m;
-        let dz = self.z_m - c.start_z_m;
         for h in self.hits.iter().filter(|h| h.lateral_m.abs() <= half) {
-            c.profile.push(along + h.forward_m, dz + h.height_m);
+            c.profile.push(along + h.forward_m, h.height_m);
         }
     }
 
@@ -757,55 +778,86 @@ impl<'a> Explorer<'a> {
         Ok(true)
     }
 
+    /// Obstacle crossing: observe the obstacle from level floor, judge whether the robot
+    /// can climb it, make its node when the robot starts to climb (the observation ends),
+    /// observe again from every level stretch on it, and finish on level floor with level
+    /// floor ahead.
     fn cross(&mut self, mut ex: Exploration, mut c: Crossing) -> Result<Velocity, BuildError> {
         self.mode = RunMode::ObstacleCrossing;
-        if !c.profile.is_empty() && self.driven_m > c.start_driven_m {
-            self.record_profile(&mut c);
-        }
+        let level = self.inclination_rad < self.cfg.level_attitude_rad;
         let robot_along = self.driven_m - c.start_driven_m;
         if self.sim.robot(self.id).in_contact() {
             c.contact_steps += 1;
         } else {
             c.contact_steps = 0;
         }
-        let stop_at = c.detect_along_m
-            - (self.spec.circumscribed_radius_m() + self.cfg.obstacle_stop_clearance_m);
-        let mut hold = false;
-        if !c.judged {
-            let at_limit = robot_along >= stop_at || c.contact_steps > 3;
-            let judge = if at_limit {
-                0.0
-            } else {
-                self.cfg.judge_profile_m
-            };
-            match c.profile.passability(
-                c.detect_along_m - 0.05,
-                judge,
-                self.spec.max_inclination_rad,
-                self.spec.max_step_m,
-            ) {
-                Passability::Impassable {
-                    inclination_rad,
-                    step_m,
-                } => return self.impassable(ex, &c, inclination_rad, step_m),
-                Passability::Passable => c.judged = true,
-                Passability::Undecided => hold = at_limit,
+        if self.inclination_rad > c.max_inclination_rad {
+            c.max_inclination_rad = self.inclination_rad;
+            if let Some(node) = c.last_node {
+                self.map
+                    .update_node(node, |n| n.max_robot_inclination_rad = Some(c.max_inclination_rad))?;
             }
-        } else if c.contact_steps > 2 * STUCK_STEPS {
-            let pieces = self.pieces(&c);
-            let inclination = pieces.first().map_or(0.0, |p| p.inclination_rad);
-            let step = pieces.first().and_then(|p| p.step_height_m);
-            return self.impassable(ex, &c, inclination, step);
         }
-        let level_ahead = track_sample(&self.hits, self.spec.width_m / 2.0)
-            .is_some_and(|s| s.height_m.abs() < self.cfg.obstacle_detect_height_m);
-        if c.judged && self.inclination_rad < self.cfg.level_attitude_rad && level_ahead {
-            c.level_run_m += self.step_m;
+        let mut hold = false;
+        if c.observing {
+            if level && self.driven_m > c.start_driven_m + 1e-9 {
+                self.record_profile(&mut c);
+            }
+            if !c.judged {
+                let stop_at = c.detect_along_m
+                    - (self.spec.circumscribed_radius_m() + self.cfg.obstacle_stop_clearance_m);
+                let at_limit = robot_along >= stop_at || c.contact_steps > 3 || !level;
+                let judge = if at_limit {
+                    0.0
+                } else {
+                    self.cfg.judge_profile_m
+                };
+                match c.profile.passability(
+                    c.detect_along_m - 0.05,
+                    judge,
+                    self.spec.max_inclination_rad,
+                    self.spec.max_step_m,
+                ) {
+                    Passability::Impassable {
+                        inclination_rad,
+                        step_m,
+                    } => return self.impassable(ex, &c, inclination_rad, step_m),
+                    Passability::Passable => c.judged = true,
+                    Passability::Undecided => hold = at_limit,
+                }
+            }
+            if !level {
+                // The robot climbs onto what it observed: that is an obstacle node.
+                self.close_observation(&mut ex, &mut c)?;
+            }
+        } else if level {
+            if let Some(s) = self.obstacle_ahead() {
+                // Level on the obstacle (its top) with more of it ahead: observe again.
+                c.profile = ObstacleProfile::default();
+                c.start_driven_m = self.driven_m;
+                c.detect_along_m = s.forward_m;
+                c.observing = true;
+                c.judged = false;
+                c.level_run_m = 0.0;
+                self.record_profile(&mut c);
+            } else {
+                c.level_run_m += self.step_m;
+            }
         } else {
             c.level_run_m = 0.0;
         }
-        if c.level_run_m >= self.cfg.level_confirm_m {
-            self.finish_crossing(&mut ex, &c)?;
+        if c.contact_steps > 2 * STUCK_STEPS {
+            let piece = c.profile.piece(
+                self.cfg.obstacle_detect_height_m,
+                self.cfg.stairs_min_residual_sd_m,
+                0.0,
+            );
+            let inclination = piece.map_or(0.0, |p| p.inclination_rad);
+            let step = piece.and_then(|p| p.step_height_m);
+            return self.impassable(ex, &c, inclination, step);
+        }
+        if !c.observing && c.level_run_m >= self.cfg.level_confirm_m {
+            ex.phase = Phase::Running;
             self.state = State::Explore(ex);
             return Ok(Velocity::default());
         }
@@ -822,15 +874,6 @@ impl<'a> Explorer<'a> {
         Ok(v)
     }
 
-    fn pieces(&self, c: &Crossing) -> Vec<super::obstacle::ObstaclePiece> {
-        c.profile.pieces(
-            self.cfg.grade_window_m,
-            self.cfg.level_grade_rad,
-            0.2,
-            self.cfg.stairs_min_residual_sd_m,
-        )
-    }
-
     fn impassable(
         &mut self,
         ex: Exploration,
@@ -844,9 +887,7 @@ impl<'a> Explorer<'a> {
         let at = pose.to_world(Point2::new(ahead, 0.0));
         let stairs = step_m.is_some();
         let name = self.spec.name.clone();
-        let max_inclination = ex
-            .rec
-            .max_inclination_between(c.start_driven_m, self.driven_m);
+        let max_inclination = c.max_inclination_rad.max(self.inclination_rad);
         let node = self.map.add_node(
             at,
             kind::OBSTACLE,
@@ -861,7 +902,7 @@ impl<'a> Explorer<'a> {
                 } else {
                     n.slope_inclination_rad = Some(inclination_rad);
                 }
-                n.max_robot_inclination_rad = max_inclination;
+                n.max_robot_inclination_rad = Some(max_inclination);
                 n.extra.insert(IMPASSABLE_FOR.into(), name.into());
             },
         )?;
@@ -875,53 +916,53 @@ impl<'a> Explorer<'a> {
         Ok(Velocity::default())
     }
 
-    /// The robot is on level floor again: one obstacle node per non-level piece of the
-    /// profile, at its start, chained by searched links; the link beyond the last goes on.
-    fn finish_crossing(&mut self, ex: &mut Exploration, c: &Crossing) -> Result<(), BuildError> {
-        let pieces = self.pieces(c);
-        for piece in pieces {
-            let at_driven = c.start_driven_m + piece.start_m;
-            let Some(at) = ex.rec.position_at(at_driven) else {
-                continue;
-            };
-            let max_inclination = ex.rec.max_inclination_between(
-                at_driven,
-                c.start_driven_m + piece.end_m + self.spec.length_m / 2.0,
-            );
-            let stairs = piece.shape == ObstacleShape::Stairs;
-            let node = self.map.add_node(
-                at,
-                kind::OBSTACLE,
-                Some(if stairs {
-                    subtype::STAIRS
-                } else {
-                    subtype::SLOPE
-                }),
-                |n| {
-                    if stairs {
-                        n.step_height_m = piece.step_height_m;
-                    } else {
-                        n.slope_inclination_rad = Some(piece.inclination_rad);
-                    }
-                    n.max_robot_inclination_rad = max_inclination;
-                    n.extra.insert("uphill".into(), piece.rising.into());
-                    n.extra
-                        .insert("profile_residual_sd_m".into(), piece.residual_sd_m.into());
-                },
-            )?;
-            let before = ex.rec.split_before(at_driven);
-            let from = self.node_position(ex.from);
-            self.map.close_link(ex.link, node, before.measures(from, at))?;
-            let onward = ex
-                .rec
-                .samples
-                .iter()
-                .find(|s| s.position.distance(at) > 0.3)
-                .map_or(self.pose().theta, |s| at.bearing_to(s.position));
-            ex.link = self.map.add_unsearched(node, onward)?;
-            ex.from = node;
+    /// The robot has begun to climb what it observed: an obstacle node at the obstacle's
+    /// start ends the link driven so far, and a new link leaves it.
+    fn close_observation(&mut self, ex: &mut Exploration, c: &mut Crossing) -> Result<(), BuildError> {
+        c.observing = false;
+        if let Ok(dir) = std::env::var("BTM_PROFILE_DIR") {
+            let text: String = c.profile.points().iter().map(|p| format!("{} {}\n", p.0, p.1)).collect();
+            let _ = std::fs::write(format!("{dir}/obs_{:.0}.txt", c.start_driven_m), text);
         }
-        ex.phase = Phase::Running;
+        let Some(piece) = c.profile.piece(
+            self.cfg.obstacle_detect_height_m,
+            self.cfg.stairs_min_residual_sd_m,
+            OBSTACLE_MIN_LENGTH_M,
+        ) else {
+            return Ok(());
+        };
+        let pose = self.pose();
+        let robot_along = self.driven_m - c.start_driven_m;
+        let at = pose.to_world(Point2::new(piece.start_m - robot_along, 0.0));
+        let stairs = piece.shape == ObstacleShape::Stairs;
+        let inclination = self.inclination_rad;
+        let node = self.map.add_node(
+            at,
+            kind::OBSTACLE,
+            Some(if stairs {
+                subtype::STAIRS
+            } else {
+                subtype::SLOPE
+            }),
+            |n| {
+                if stairs {
+                    n.step_height_m = piece.step_height_m;
+                } else {
+                    n.slope_inclination_rad = Some(piece.inclination_rad);
+                }
+                n.max_robot_inclination_rad = Some(inclination);
+                n.extra.insert("uphill".into(), piece.rising.into());
+                n.extra
+                    .insert("profile_residual_sd_m".into(), piece.residual_sd_m.into());
+            },
+        )?;
+        let before = ex.rec.split_before(self.driven_m);
+        let from = self.node_position(ex.from);
+        self.map.close_link(ex.link, node, before.measures(from, at))?;
+        ex.link = self.map.add_unsearched(node, pose.theta)?;
+        ex.from = node;
+        c.last_node = Some(node);
+        c.max_inclination_rad = inclination;
         Ok(())
     }
 
@@ -946,6 +987,7 @@ impl<'a> Explorer<'a> {
         ex.phase = Phase::FreeSpace {
             entrance: node,
             right_wall: follow_right_wall(strip),
+            seeking: true,
             exit: ExitTracker::default(),
             entered_driven_m: self.driven_m,
         };
@@ -958,6 +1000,7 @@ impl<'a> Explorer<'a> {
         mut ex: Exploration,
         entrance: u32,
         right_wall: bool,
+        mut seeking: bool,
         mut exit: ExitTracker,
         entered_driven_m: f64,
     ) -> Result<Velocity, BuildError> {
@@ -994,17 +1037,30 @@ impl<'a> Explorer<'a> {
                 return Ok(Velocity::default());
             }
         }
-        let v = wall_following(
-            &self.view,
-            right_wall,
-            cfg.wall_distance_m,
-            cfg.look_ahead_m,
-            self.spec.width_m / 2.0,
-            self.gains(),
-        );
+        // Straight into the open area until a wall is met: turning at once towards the side
+        // wall would lead round the door jamb and back out of the entrance.
+        if seeking
+            && (self.view.front_clearance(self.spec.width_m / 2.0 + 0.1) < cfg.wall_distance_m + 0.1
+                || side_distance(&self.view, right_wall) < cfg.wall_distance_m)
+        {
+            seeking = false;
+        }
+        let v = if seeking {
+            target_approach(Point2::new(cfg.look_ahead_m, 0.0), self.gains())
+        } else {
+            wall_following(
+                &self.view,
+                right_wall,
+                cfg.wall_distance_m,
+                cfg.look_ahead_m,
+                self.spec.width_m / 2.0,
+                self.gains(),
+            )
+        };
         ex.phase = Phase::FreeSpace {
             entrance,
             right_wall,
+            seeking,
             exit,
             entered_driven_m,
         };

@@ -157,6 +157,14 @@ impl<'s> MapWriter<'s> {
         Ok(id)
     }
 
+    /// Changes node `id` with `change` and stores it again.
+    pub fn update_node(&mut self, id: u32, change: impl FnOnce(&mut Node)) -> Result<(), BtmError> {
+        if let Some(n) = self.btm.nodes.iter_mut().find(|n| n.id == id) {
+            change(n);
+        }
+        self.put_node(id)
+    }
+
     /// Adds an un-searched link leaving `start` in `direction_rad`.
     pub fn add_unsearched(&mut self, start: u32, direction_rad: f64) -> Result<u32, BtmError> {
         let id = self.btm.next_link_id();

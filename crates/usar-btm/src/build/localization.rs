@@ -4,8 +4,10 @@
 //!
 //! Odometry alone drifts by several degrees of heading over a course (the simulator's
 //! rotation noise is 0.02 rad per √rad turned), which would put far nodes metres away.
-//! Scan matching is skipped while the robot is on an obstacle: the horizontal laser then
-//! sees the rising floor ahead as a wall that moves with the robot.
+//! While the robot is on an obstacle the horizontal laser sees the rising floor ahead (or
+//! behind) as a wall that moves with the robot, and ICP would hold the robot back. Only the
+//! heading is corrected then, from the direction of the straight walls to its sides in both
+//! scans; the distance along the way comes from odometry.
 
 use crate::build::scan::ScanView;
 use usar_world::{Point2, Pose2, normalize_angle};
@@ -78,24 +80,33 @@ impl Localizer {
         self.last_odometry = odometry;
     }
 
-    /// Corrects the estimate with `scan`; `usable` is false while the scan may not be
-    /// matched (on an obstacle), which also drops the key scan.
-    pub fn correct(&mut self, scan: &ScanView, usable: bool) {
-        if !(self.scan_matching && usable) {
-            self.key = None;
+    /// Corrects the estimate with `scan`; with `sides_only` (on an obstacle) only the points
+    /// within 40° of either side are matched.
+    pub fn correct(&mut self, scan: &ScanView, sides_only: bool) {
+        if !self.scan_matching {
             return;
         }
         let Some(key) = &self.key else {
             self.take_key(scan);
             return;
         };
-        let guess = relative(key.pose, self.pose);
-        match match_scan(key, scan, guess) {
-            Some(t) => {
-                self.pose = compose(key.pose, t);
-                self.matched += 1;
+        if sides_only {
+            match match_heading(key, scan, self.pose.theta) {
+                Some(theta) => {
+                    self.pose.theta = theta;
+                    self.matched += 1;
+                }
+                None => self.rejected += 1,
             }
-            None => self.rejected += 1,
+        } else {
+            let guess = relative(key.pose, self.pose);
+            match match_scan(key, scan, guess) {
+                Some(t) => {
+                    self.pose = compose(key.pose, t);
+                    self.matched += 1;
+                }
+                None => self.rejected += 1,
+            }
         }
         let moved = self.pose.position().distance(key.pose.position());
         let turned = normalize_angle(self.pose.theta - key.pose.theta).abs();
@@ -118,6 +129,68 @@ impl Localizer {
 const SEARCH_BEAMS: i64 = 3;
 const ITERATIONS: usize = 12;
 const MIN_PAIRS: usize = 40;
+/// A key point farther than this from the line through its neighbours is on a corner.
+const COLLINEAR_M: f64 = 0.02;
+/// tan 50°: "to the side" is within 40° of ±90°.
+const SIDE_TAN: f64 = 1.192;
+/// Side walls are used for the heading only when straight to within this, metres ...
+const WALL_RESIDUAL_M: f64 = 0.03;
+/// ... and seen by at least this many beams, within this lateral distance.
+const WALL_MIN_POINTS: usize = 15;
+const WALL_MAX_DISTANCE_M: f64 = 3.0;
+
+/// Direction (robot frame, modulo π) of the straight wall on one side, if there is one.
+fn side_wall_direction(points: impl Iterator<Item = Point2>, left: bool) -> Option<f64> {
+    let pts: Vec<Point2> = points
+        .filter(|p| {
+            (p.y > 0.0) == left
+                && p.y.abs() > p.x.abs() * SIDE_TAN
+                && p.y.abs() < WALL_MAX_DISTANCE_M
+        })
+        .collect();
+    if pts.len() < WALL_MIN_POINTS {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.x / n, a.1 + p.y / n));
+    let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+    for p in &pts {
+        let (dx, dy) = (p.x - mx, p.y - my);
+        sxx += dx * dx;
+        syy += dy * dy;
+        sxy += dx * dy;
+    }
+    // Principal direction and the spread across it (the smaller eigenvalue).
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let mean = (sxx + syy) / 2.0;
+    let diff = ((sxx - syy) / 2.0).hypot(sxy);
+    let across = ((mean - diff) / n).max(0.0).sqrt();
+    (across < WALL_RESIDUAL_M).then_some(angle)
+}
+
+/// The heading at which the straight side walls of `scan` have the directions they had in
+/// `key`; the candidate nearest `predicted` (walls are directions modulo π).
+fn match_heading(key: &KeyScan, scan: &ScanView, predicted: f64) -> Option<f64> {
+    let mut corrections = Vec::new();
+    for left in [true, false] {
+        let now = side_wall_direction(scan.points.iter().copied(), left);
+        let then = side_wall_direction(key.beams.iter().flatten().copied(), left);
+        if let (Some(now), Some(then)) = (now, then) {
+            let theta = key.pose.theta + then - now;
+            // Nearest to the prediction modulo π.
+            let d = normalize_angle(2.0 * (theta - predicted)) / 2.0;
+            corrections.push(d);
+        }
+    }
+    if std::env::var("BTM_DEBUG").is_ok() {
+        eprintln!("heading corr {:?}", corrections.iter().map(|c| c.to_degrees()).collect::<Vec<_>>());
+    }
+    if corrections.is_empty() {
+        return None;
+    }
+    let mean = corrections.iter().sum::<f64>() / corrections.len() as f64;
+    (mean.abs() < 0.1).then(|| normalize_angle(predicted + mean))
+}
 
 /// Pose of `scan` in the frame of `key`, starting from `guess`; `None` when too few points
 /// correspond.
@@ -151,12 +224,23 @@ fn match_scan(key: &KeyScan, scan: &ScanView, guess: Pose2) -> Option<Pose2> {
             if d2 > max_d * max_d {
                 continue;
             }
-            let neighbour = [k + 1, k - 1].into_iter().find_map(|kk| {
-                key.beams[kk.rem_euclid(n) as usize].filter(|o| o.distance(m) < 0.2 && o.distance(m) > 1e-6)
-            });
-            let Some(o) = neighbour else { continue };
-            let len = o.distance(m);
-            let normal = ((m.y - o.y) / len, (o.x - m.x) / len);
+            // The line through the key point's two neighbours, used only where the three are
+            // collinear: at a corner a one-sided neighbour would tilt the normal and bias the
+            // heading.
+            let (Some(a), Some(b)) = (
+                key.beams[(k - 1).rem_euclid(n) as usize],
+                key.beams[(k + 1).rem_euclid(n) as usize],
+            ) else {
+                continue;
+            };
+            let len = a.distance(b);
+            if !(1e-6..0.4).contains(&len) {
+                continue;
+            }
+            let normal = ((a.y - b.y) / len, (b.x - a.x) / len);
+            if (normal.0 * (m.x - a.x) + normal.1 * (m.y - a.y)).abs() > COLLINEAR_M {
+                continue;
+            }
             let r = normal.0 * (q.x - m.x) + normal.1 * (q.y - m.y);
             let jac = [normal.0, normal.1, normal.0 * -q.y + normal.1 * q.x];
             for a in 0..3 {

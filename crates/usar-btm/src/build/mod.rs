@@ -79,6 +79,9 @@ pub struct BuildOutcome {
     /// Distance the robot really drove, metres.
     pub distance_m: f64,
     pub collisions: u32,
+    /// Scans matched to a key scan, and matches rejected (odometry kept).
+    pub scan_matches: u64,
+    pub scan_match_rejections: u64,
     pub stop: StopReason,
 }
 

@@ -72,7 +72,7 @@ pub enum ObstacleShape {
 /// A non-level piece of the profile.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObstaclePiece {
-    /// Where it starts and ends along the path, metres from the start of the crossing.
+    /// Where it starts and where the last return on it lies, metres along the path.
     pub start_m: f64,
     pub end_m: f64,
     /// Whether the floor rises in the direction of travel.
@@ -108,8 +108,10 @@ const JUMP_M: f64 = 0.02;
 const RISER_MIN_M: f64 = 0.05;
 const RISER_RUN_M: f64 = 0.12;
 
-/// The obstacle profile of Fig. 4: (distance along the path, floor height) pairs, both
-/// relative to where the crossing started.
+/// The obstacle profile of Fig. 4 seen from level floor: (distance along the path, height
+/// above the floor the robot stands on) pairs. Only returns taken while the robot stands
+/// level are exact (the tilted laser's plane is fixed to the body), so the robot observes
+/// an obstacle from the level floor before it, and the next from the level top of it.
 #[derive(Clone, Debug, Default)]
 pub struct ObstacleProfile {
     points: Vec<(f64, f64)>,
@@ -120,6 +122,11 @@ impl ObstacleProfile {
         if along_m.is_finite() && height_m.is_finite() {
             self.points.push((along_m, height_m));
         }
+    }
+
+    /// The (distance, height) points as recorded.
+    pub fn points(&self) -> &[(f64, f64)] {
+        &self.points
     }
 
     pub fn len(&self) -> usize {
@@ -191,13 +198,17 @@ impl ObstacleProfile {
         max_inclination_rad: f64,
         max_step_m: f64,
     ) -> Passability {
-        let bins: Vec<(f64, f64)> = self.bins().into_iter().filter(|b| b.0 >= from_m).collect();
-        let Some((first, last)) = bins.first().zip(bins.last()) else {
+        let seen: Vec<(f64, f64)> = self.bins().into_iter().filter(|b| b.0 >= from_m).collect();
+        let Some((first, last)) = seen.first().copied().zip(seen.last().copied()) else {
             return Passability::Undecided;
         };
+        // The floor the robot stands on is level 0 before the obstacle.
+        let bins: Vec<(f64, f64)> = std::iter::once((first.0 - 2.0 * BIN_M, 0.0))
+            .chain(seen)
+            .collect();
         let risers = Self::risers(&bins);
         let step = risers.iter().map(|r| r.1.abs()).fold(0.0, f64::max);
-        let fit = line_fit(&bins);
+        let fit = line_fit(&bins[1..]);
         if step > max_step_m {
             return Passability::Impassable {
                 inclination_rad: fit.map_or(0.0, |f| f.slope.atan().abs()),
@@ -218,94 +229,61 @@ impl ObstacleProfile {
         }
     }
 
-    /// Cuts the profile into level and non-level pieces by the local grade over
-    /// ±`window_m` and describes every non-level piece at least `min_piece_m` long.
-    pub fn pieces(
+    /// Describes the obstacle in this observation: the points from the first one off the
+    /// level by more than `detect_height_m / 2` on. A least-squares line through them gives
+    /// the inclination; the standard deviation of the residuals (√V) above
+    /// `stairs_min_residual_sd_m` makes it stairs, whose step height is the median riser.
+    /// `None` when less than `min_length_m` of obstacle was seen.
+    pub fn piece(
         &self,
-        window_m: f64,
-        level_grade_rad: f64,
-        min_piece_m: f64,
+        detect_height_m: f64,
         stairs_min_residual_sd_m: f64,
-    ) -> Vec<ObstaclePiece> {
-        let bins = self.bins();
-        if bins.len() < 3 {
-            return Vec::new();
-        }
-        let tan_level = level_grade_rad.tan();
-        let class: Vec<i8> = (0..bins.len())
-            .map(|i| {
-                let x = bins[i].0;
-                let lo = bins.iter().position(|b| b.0 >= x - window_m).unwrap_or(i);
-                let hi = bins.iter().rposition(|b| b.0 <= x + window_m).unwrap_or(i);
-                let dx = bins[hi].0 - bins[lo].0;
-                if dx < window_m {
-                    return 0;
-                }
-                let grade = (bins[hi].1 - bins[lo].1) / dx;
-                if grade > tan_level {
-                    1
-                } else if grade < -tan_level {
-                    -1
-                } else {
-                    0
-                }
-            })
+        min_length_m: f64,
+    ) -> Option<ObstaclePiece> {
+        let start_m = self
+            .points
+            .iter()
+            .filter(|p| p.1.abs() > detect_height_m / 2.0)
+            .map(|p| p.0)
+            .reduce(f64::min)?;
+        let part: Vec<(f64, f64)> = self
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= start_m)
             .collect();
-        // Runs of one class.
-        let mut runs: Vec<(i8, usize, usize)> = Vec::new();
-        for (i, &c) in class.iter().enumerate() {
-            match runs.last_mut() {
-                Some(r) if r.0 == c => r.2 = i,
-                _ => runs.push((c, i, i)),
-            }
+        let end_m = part.iter().map(|p| p.0).fold(start_m, f64::max);
+        if end_m - start_m < min_length_m {
+            return None;
         }
-        let mut pieces = Vec::new();
-        for &(c, a, b) in &runs {
-            if c == 0 {
-                continue;
-            }
-            let (start, end) = (bins[a].0, bins[b].0);
-            if end - start < min_piece_m {
-                continue;
-            }
-            // Fit inside the piece, away from the edges the grade window smears.
-            let inner: Vec<(f64, f64)> = if end - start > 2.0 * window_m + 0.2 {
-                bins[a..=b]
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0 >= start + window_m && p.0 <= end - window_m)
-                    .collect()
-            } else {
-                bins[a..=b].to_vec()
-            };
-            let Some(fit) = line_fit(&inner) else {
-                continue;
-            };
-            let shape = if fit.residual_sd > stairs_min_residual_sd_m {
-                ObstacleShape::Stairs
-            } else {
-                ObstacleShape::Slope
-            };
-            let lo = a.saturating_sub((window_m / BIN_M) as usize);
-            let hi = (b + (window_m / BIN_M) as usize).min(bins.len() - 1);
-            let mut rises: Vec<f64> = Self::risers(&bins[lo..=hi])
-                .into_iter()
-                .map(|r| r.1.abs())
-                .collect();
-            rises.sort_by(f64::total_cmp);
-            let step_height_m = (shape == ObstacleShape::Stairs && !rises.is_empty())
-                .then(|| rises[rises.len() / 2]);
-            pieces.push(ObstaclePiece {
-                start_m: start,
-                end_m: end,
-                rising: c > 0,
-                shape,
-                inclination_rad: fit.slope.atan().abs(),
-                residual_sd_m: fit.residual_sd,
-                step_height_m,
-            });
-        }
-        pieces
+        let fit = line_fit(&part)?;
+        let mean_z = part.iter().map(|p| p.1).sum::<f64>() / part.len() as f64;
+        let shape = if fit.residual_sd > stairs_min_residual_sd_m {
+            ObstacleShape::Stairs
+        } else {
+            ObstacleShape::Slope
+        };
+        // The floor the robot stands on is level 0 before the obstacle.
+        let bins: Vec<(f64, f64)> = std::iter::once((start_m - 2.0 * BIN_M, 0.0))
+            .chain(self.bins().into_iter().filter(|b| b.0 >= start_m))
+            .collect();
+        let mut rises: Vec<f64> = Self::risers(&bins).into_iter().map(|r| r.1.abs()).collect();
+        rises.sort_by(f64::total_cmp);
+        let step_height_m = (shape == ObstacleShape::Stairs).then(|| {
+            rises
+                .get(rises.len() / 2)
+                .copied()
+                .unwrap_or_else(|| part.iter().map(|p| p.1.abs()).fold(0.0, f64::max))
+        });
+        Some(ObstaclePiece {
+            start_m,
+            end_m,
+            rising: mean_z > 0.0,
+            shape,
+            inclination_rad: fit.slope.atan().abs(),
+            residual_sd_m: fit.residual_sd,
+            step_height_m,
+        })
     }
 }
 
@@ -362,39 +340,36 @@ mod tests {
     #[test]
     fn a_ramp_is_a_slope_of_its_inclination() {
         let t = 20f64.to_radians().tan();
-        // Level 1 m, a ramp of 2.5 m on a 0.1 m grid, level again.
+        // Level up to 1 m, then a ramp on a 0.1 m grid, seen up to 1.6 m.
         let p = profile(
             |x| {
                 let cell = ((x - 1.0) / 0.1).floor() * 0.1 + 0.05;
-                t * cell.clamp(0.0, 2.5) * f64::from(u8::from(x >= 1.0))
+                if x < 1.0 { 0.0 } else { t * cell }
             },
-            5.0,
+            1.6,
         );
-        let pieces = p.pieces(0.3, 5f64.to_radians(), 0.2, 0.02);
-        assert_eq!(pieces.len(), 1, "{pieces:?}");
-        let s = pieces[0];
+        let s = p.piece(0.04, 0.02, 0.1).expect("a piece");
         assert_eq!(s.shape, ObstacleShape::Slope);
         assert!(s.rising);
         assert!((s.inclination_rad.to_degrees() - 20.0).abs() < 1.5, "{s:?}");
-        assert!((s.start_m - 1.0).abs() < 0.35, "{s:?}");
+        assert!((s.start_m - 1.0).abs() < 0.15, "{s:?}");
+        assert!(profile(|_| 0.003, 2.0).piece(0.04, 0.02, 0.1).is_none());
     }
 
     #[test]
     fn stairs_have_a_large_residual_and_their_step_height() {
-        // Level 1 m, four steps of 0.15 m every 0.3 m, then level.
+        // Level up to 1 m, then steps of 0.15 m every 0.3 m.
         let p = profile(
             |x| {
                 if x < 1.0 {
                     0.0
                 } else {
-                    (((x - 1.0) / 0.3).floor() + 1.0).min(4.0) * 0.15
+                    (((x - 1.0) / 0.3).floor() + 1.0) * 0.15
                 }
             },
-            4.0,
+            1.7,
         );
-        let pieces = p.pieces(0.3, 5f64.to_radians(), 0.2, 0.02);
-        assert_eq!(pieces.len(), 1, "{pieces:?}");
-        let s = pieces[0];
+        let s = p.piece(0.04, 0.02, 0.1).expect("a piece");
         assert_eq!(s.shape, ObstacleShape::Stairs, "{s:?}");
         assert!((s.step_height_m.unwrap() - 0.15).abs() < 0.02, "{s:?}");
     }
