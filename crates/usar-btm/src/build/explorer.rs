@@ -44,6 +44,12 @@ const STUCK_STEPS: u32 = 15;
 const RECOVERY_STEPS: u32 = 5;
 /// A free space must be driven this far before its exit may be declared, metres.
 const FREE_SPACE_MIN_M: f64 = 2.0;
+/// Around the entrance of a free space the walls are not followed out of it, metres.
+const ENTRANCE_ZONE_M: f64 = 1.5;
+/// A dead end is confirmed this much inside the tilted laser's reach, metres.
+const DEAD_END_MARGIN_M: f64 = 0.1;
+/// Floor returns kept from before an obstacle is seen, metres driven.
+const RECENT_FLOOR_M: f64 = 0.3;
 /// Less obstacle than this seen from level floor makes no node, metres.
 const OBSTACLE_MIN_LENGTH_M: f64 = 0.1;
 /// Time an approach may take before the robot settles for where it got, seconds.
@@ -74,15 +80,35 @@ enum Phase {
         radius_m: f64,
         since_s: f64,
     },
+    /// At a dead end's circumcentre: on towards the end wall until the tilted laser has seen
+    /// all the floor before it (a rising floor seen by the horizontal laser looks like a
+    /// dead end from afar).
+    ConfirmingDeadEnd {
+        centre: Point2,
+        radius_m: f64,
+    },
     Crossing(Crossing),
     FreeSpace {
         entrance: u32,
         right_wall: bool,
         /// Driving straight on until a wall is met (then it is followed).
         seeking: bool,
+        /// Times the robot came back past the entrance, and whether it is away from it now.
+        passes: u32,
+        away: bool,
         exit: ExitTracker,
         entered_driven_m: f64,
     },
+}
+
+/// The state of a walk through a free space.
+struct FreeSpaceWalk {
+    entrance: u32,
+    right_wall: bool,
+    seeking: bool,
+    passes: u32,
+    away: bool,
+    entered_driven_m: f64,
 }
 
 struct Crossing {
@@ -99,6 +125,10 @@ struct Crossing {
     /// The last obstacle node made in this crossing and the largest inclination since.
     last_node: Option<u32>,
     max_inclination_rad: f64,
+    /// Body inclinations while on the obstacle since the last node.
+    on_obstacle_rad: Vec<f64>,
+    /// The judgement found the obstacle impassable: (inclination, step).
+    impassable: Option<(f64, Option<f64>)>,
 }
 
 struct Route {
@@ -129,6 +159,10 @@ pub(super) struct Explorer<'a> {
     recovery_steps: u32,
     /// Circumcentres that turned out to be plain passage.
     ignored: Vec<Point2>,
+    /// Tilted-laser returns on the track over the last stretch driven (distance driven,
+    /// forward distance, height), so that an observation starts with the level floor before
+    /// the obstacle.
+    recent_floor: std::collections::VecDeque<(f64, f64, f64)>,
 }
 
 impl<'a> Explorer<'a> {
@@ -183,6 +217,7 @@ impl<'a> Explorer<'a> {
             contact_steps: 0,
             recovery_steps: 0,
             ignored: Vec::new(),
+            recent_floor: std::collections::VecDeque::new(),
         })
     }
 
@@ -239,6 +274,21 @@ impl<'a> Explorer<'a> {
         self.hits = floor_hits(&self.spec.tilted_laser, &tilted);
         let attitude = self.sim.read_attitude(self.id);
         self.inclination_rad = attitude.inclination_rad();
+        let half = self.spec.width_m / 2.0;
+        let driven = self.driven_m;
+        self.recent_floor.extend(
+            self.hits
+                .iter()
+                .filter(|h| h.lateral_m.abs() <= half)
+                .map(|h| (driven, h.forward_m, h.height_m)),
+        );
+        while self
+            .recent_floor
+            .front()
+            .is_some_and(|r| r.0 < driven - RECENT_FLOOR_M)
+        {
+            self.recent_floor.pop_front();
+        }
         let odometry = self.sim.robot(self.id).odometry.clone();
         self.step_m = odometry.distance_m - self.last_odometry_m;
         self.last_odometry_m = odometry.distance_m;
@@ -535,14 +585,29 @@ impl<'a> Explorer<'a> {
                 radius_m,
                 since_s,
             } => self.approach(ex, centre, radius_m, since_s),
+            Phase::ConfirmingDeadEnd { centre, radius_m } => {
+                self.confirm_dead_end(ex, centre, radius_m)
+            }
             Phase::Crossing(c) => self.cross(ex, c),
             Phase::FreeSpace {
                 entrance,
                 right_wall,
                 seeking,
+                passes,
+                away,
                 exit,
                 entered_driven_m,
-            } => self.free_space(ex, entrance, right_wall, seeking, exit, entered_driven_m),
+            } => {
+                let walk = FreeSpaceWalk {
+                    entrance,
+                    right_wall,
+                    seeking,
+                    passes,
+                    away,
+                    entered_driven_m,
+                };
+                self.free_space(ex, walk, exit)
+            }
         }
     }
 
@@ -579,8 +644,12 @@ impl<'a> Explorer<'a> {
             contact_steps: 0,
             last_node: None,
             max_inclination_rad: 0.0,
+            on_obstacle_rad: Vec::new(),
+            impassable: None,
         };
-        self.record_profile(&mut c);
+        for &(driven, forward, height) in &self.recent_floor {
+            c.profile.push(driven - c.start_driven_m + forward, height);
+        }
         Some(c)
     }
 
@@ -688,6 +757,11 @@ impl<'a> Explorer<'a> {
         let distance = pose.position().distance(centre);
         let patience_over = self.sim.time_s() - since_s > APPROACH_PATIENCE_S;
         if distance < self.cfg.arrival_radius_m || (patience_over && distance < 2.0 * radius_m) {
+            if self.is_dead_end(centre, radius_m) && !self.floor_seen_to_front_wall() {
+                ex.phase = Phase::ConfirmingDeadEnd { centre, radius_m };
+                self.state = State::Explore(ex);
+                return Ok(Velocity::default());
+            }
             if self.arrive(&mut ex, centre, radius_m)? {
                 return Ok(Velocity::default());
             }
@@ -707,6 +781,49 @@ impl<'a> Explorer<'a> {
             since_s,
         };
         let v = target_approach(body, self.gains());
+        self.state = State::Explore(ex);
+        Ok(v)
+    }
+
+    fn is_dead_end(&self, centre: Point2, radius_m: f64) -> bool {
+        let dirs = open_directions(
+            &self.world_points(),
+            centre,
+            radius_m + self.cfg.search_margin_m,
+            self.spec.width_m,
+        );
+        divergence_subtype(&dirs, STRAIGHT_TOLERANCE_RAD) == Some(subtype::DEAD_END)
+    }
+
+    /// Whether the wall ahead is within the tilted laser's reach on level floor, so that any
+    /// obstacle before it would have been seen.
+    fn floor_seen_to_front_wall(&self) -> bool {
+        let t = &self.spec.tilted_laser;
+        let reach = t.flat_floor_range_m() * t.tilt_from_vertical_rad.sin();
+        self.view.front_clearance(self.spec.width_m / 2.0) <= reach - DEAD_END_MARGIN_M
+    }
+
+    fn confirm_dead_end(
+        &mut self,
+        mut ex: Exploration,
+        centre: Point2,
+        radius_m: f64,
+    ) -> Result<Velocity, BuildError> {
+        if let Some(c) = self.detect_obstacle() {
+            return self.cross(ex, c);
+        }
+        self.mode = RunMode::BranchSelection;
+        if self.floor_seen_to_front_wall() || self.contact_steps > 0 {
+            if !self.arrive(&mut ex, centre, radius_m)? {
+                self.state = State::Explore(ex);
+            }
+            return Ok(Velocity::default());
+        }
+        let clearance = self.view.side_clearance(0.0, self.cfg.run_strip_m);
+        let mut gains = self.gains();
+        gains.speed_mps *= self.cfg.obstacle_speed_factor;
+        let v = central_run(clearance, self.cfg.look_ahead_m, gains);
+        ex.phase = Phase::ConfirmingDeadEnd { centre, radius_m };
         self.state = State::Explore(ex);
         Ok(v)
     }
@@ -803,17 +920,17 @@ impl<'a> Explorer<'a> {
             if level && self.driven_m > c.start_driven_m + 1e-9 {
                 self.record_profile(&mut c);
             }
+            let stop_at = c.detect_along_m
+                - (self.spec.circumscribed_radius_m() + self.cfg.obstacle_stop_clearance_m);
+            let at_limit = robot_along >= stop_at || c.contact_steps > 3 || !level;
             if !c.judged {
-                let stop_at = c.detect_along_m
-                    - (self.spec.circumscribed_radius_m() + self.cfg.obstacle_stop_clearance_m);
-                let at_limit = robot_along >= stop_at || c.contact_steps > 3 || !level;
                 let judge = if at_limit {
                     0.0
                 } else {
                     self.cfg.judge_profile_m
                 };
                 match c.profile.passability(
-                    c.detect_along_m - 0.05,
+                    c.detect_along_m - 0.01,
                     judge,
                     self.spec.max_inclination_rad,
                     self.spec.max_step_m,
@@ -821,16 +938,25 @@ impl<'a> Explorer<'a> {
                     Passability::Impassable {
                         inclination_rad,
                         step_m,
-                    } => return self.impassable(ex, &c, inclination_rad, step_m),
+                    } => {
+                        c.judged = true;
+                        c.impassable = Some((inclination_rad, step_m));
+                    }
                     Passability::Passable => c.judged = true,
                     Passability::Undecided => hold = at_limit,
                 }
             }
-            if !level {
+            if let Some((inclination_rad, step_m)) = c.impassable {
+                // Observe on up to where the robot must stop, then record what it saw.
+                if at_limit {
+                    return self.impassable(ex, &c, inclination_rad, step_m);
+                }
+            } else if !level {
                 // The robot climbs onto what it observed: that is an obstacle node.
                 self.close_observation(&mut ex, &mut c)?;
             }
         } else if level {
+            self.finish_slope(&mut c)?;
             if let Some(s) = self.obstacle_ahead() {
                 // Level on the obstacle (its top) with more of it ahead: observe again.
                 c.profile = ObstacleProfile::default();
@@ -844,6 +970,7 @@ impl<'a> Explorer<'a> {
                 c.level_run_m += self.step_m;
             }
         } else {
+            c.on_obstacle_rad.push(self.inclination_rad);
             c.level_run_m = 0.0;
         }
         if c.contact_steps > 2 * STUCK_STEPS {
@@ -857,6 +984,7 @@ impl<'a> Explorer<'a> {
             return self.impassable(ex, &c, inclination, step);
         }
         if !c.observing && c.level_run_m >= self.cfg.level_confirm_m {
+            self.finish_slope(&mut c)?;
             ex.phase = Phase::Running;
             self.state = State::Explore(ex);
             return Ok(Velocity::default());
@@ -881,12 +1009,37 @@ impl<'a> Explorer<'a> {
         inclination_rad: f64,
         step_m: Option<f64>,
     ) -> Result<Velocity, BuildError> {
+        let name = self.spec.name.clone();
+        if let (Some(node), false) = (c.last_node, c.observing) {
+            // Stuck on the obstacle it has begun to climb: that node is where it cannot pass;
+            // the link beyond it was never driven.
+            let max_inclination = c.max_inclination_rad.max(self.inclination_rad);
+            self.map.update_node(node, |n| {
+                n.max_robot_inclination_rad = Some(max_inclination);
+                n.extra.insert(IMPASSABLE_FOR.into(), name.into());
+            })?;
+            self.map.remove_unsearched(ex.link)?;
+            self.node = node;
+            self.state = State::Backoff {
+                until_driven_m: self.driven_m + BACKOFF_M,
+            };
+            self.mode = RunMode::DeadEndRun;
+            return Ok(Velocity::default());
+        }
         let pose = self.pose();
         let robot_along = self.driven_m - c.start_driven_m;
         let ahead = (c.detect_along_m - robot_along).max(0.0);
         let at = pose.to_world(Point2::new(ahead, 0.0));
-        let stairs = step_m.is_some();
-        let name = self.spec.name.clone();
+        // The shape by the paper's variance test; the values as the judgement found them
+        // (a riser higher than the robot climbs, or the inclination).
+        let piece = c.profile.piece(
+            self.cfg.obstacle_detect_height_m,
+            self.cfg.stairs_min_residual_sd_m,
+            0.0,
+        );
+        let piece = piece.filter(|p| p.end_m - p.start_m >= OBSTACLE_MIN_LENGTH_M);
+        let stairs = step_m.is_some() || piece.is_some_and(|p| p.shape == ObstacleShape::Stairs);
+        let step_m = piece.and_then(|p| p.step_height_m).or(step_m);
         let max_inclination = c.max_inclination_rad.max(self.inclination_rad);
         let node = self.map.add_node(
             at,
@@ -914,6 +1067,34 @@ impl<'a> Explorer<'a> {
         };
         self.mode = RunMode::DeadEndRun;
         Ok(Velocity::default())
+    }
+
+    /// The robot is level again after a slope: its inclination becomes the median body
+    /// inclination while it stood on it (within 75 % of the largest), which the paper saves
+    /// ("it passed over the slope and the maximum inclination angle is saved"); the tilted
+    /// laser's estimate stays in `extra`.
+    fn finish_slope(&mut self, c: &mut Crossing) -> Result<(), BuildError> {
+        let samples = std::mem::take(&mut c.on_obstacle_rad);
+        let Some(node) = c.last_node else {
+            return Ok(());
+        };
+        let max = samples.iter().copied().fold(0.0, f64::max);
+        let mut on: Vec<f64> = samples.into_iter().filter(|&v| v >= 0.75 * max).collect();
+        if on.is_empty() {
+            return Ok(());
+        }
+        on.sort_by(f64::total_cmp);
+        let median = on[on.len() / 2];
+        self.map.update_node(node, |n| {
+            if n.subtype.as_deref() == Some(subtype::SLOPE) {
+                if let Some(profile) = n.slope_inclination_rad {
+                    n.extra
+                        .insert("profile_inclination_rad".into(), profile.into());
+                }
+                n.slope_inclination_rad = Some(median);
+            }
+        })?;
+        Ok(())
     }
 
     /// The robot has begun to climb what it observed: an obstacle node at the obstacle's
@@ -988,6 +1169,8 @@ impl<'a> Explorer<'a> {
             entrance: node,
             right_wall: follow_right_wall(strip),
             seeking: true,
+            passes: 0,
+            away: false,
             exit: ExitTracker::default(),
             entered_driven_m: self.driven_m,
         };
@@ -998,25 +1181,33 @@ impl<'a> Explorer<'a> {
     fn free_space(
         &mut self,
         mut ex: Exploration,
-        entrance: u32,
-        right_wall: bool,
-        mut seeking: bool,
+        mut walk: FreeSpaceWalk,
         mut exit: ExitTracker,
-        entered_driven_m: f64,
     ) -> Result<Velocity, BuildError> {
         self.mode = RunMode::WallFollowing;
         let cfg = self.cfg;
         let here = self.pose().position();
-        let inside_m = self.driven_m - entered_driven_m;
-        let entrance_at = self.node_position(entrance);
-        if inside_m > 2.0 * FREE_SPACE_MIN_M && here.distance(entrance_at) < CANDIDATE_TRACK_M {
-            // Round the walls back to the entrance: a room with no other way out.
-            self.map
-                .close_link(ex.link, entrance, ex.rec.measures(entrance_at, entrance_at))?;
-            self.plan_return(entrance)?;
+        let inside_m = self.driven_m - walk.entered_driven_m;
+        let entrance_at = self.node_position(walk.entrance);
+        let from_entrance = here.distance(entrance_at);
+        let near_entrance = inside_m > FREE_SPACE_MIN_M && from_entrance < ENTRANCE_ZONE_M;
+        if from_entrance > 2.0 * ENTRANCE_ZONE_M {
+            walk.away = true;
+        } else if near_entrance && walk.away {
+            walk.away = false;
+            walk.passes += 1;
+        }
+        if walk.passes >= 2 {
+            // Round every wall back to the entrance twice: no other way out.
+            self.map.close_link(
+                ex.link,
+                walk.entrance,
+                ex.rec.measures(entrance_at, entrance_at),
+            )?;
+            self.plan_return(walk.entrance)?;
             return Ok(Velocity::default());
         }
-        if inside_m > FREE_SPACE_MIN_M {
+        if inside_m > FREE_SPACE_MIN_M && !near_entrance {
             if let Some(at) = exit.update(
                 self.beside(),
                 cfg.free_space_clearance_m,
@@ -1038,13 +1229,17 @@ impl<'a> Explorer<'a> {
             }
         }
         // Straight into the open area until a wall is met: turning at once towards the side
-        // wall would lead round the door jamb and back out of the entrance.
-        if seeking
-            && (self.view.front_clearance(self.spec.width_m / 2.0 + 0.1) < cfg.wall_distance_m + 0.1
-                || side_distance(&self.view, right_wall) < cfg.wall_distance_m)
+        // wall would lead round the door jamb and back out of the entrance. Straight on past
+        // the entrance too when the walls lead back to it, to follow them further.
+        let blocked_ahead =
+            self.view.front_clearance(self.spec.width_m / 2.0 + 0.1) < cfg.wall_distance_m + 0.1;
+        if walk.seeking
+            && (blocked_ahead || side_distance(&self.view, walk.right_wall) < cfg.wall_distance_m)
         {
-            seeking = false;
+            walk.seeking = false;
         }
+        let seeking = walk.seeking || (near_entrance && !blocked_ahead);
+        let right_wall = walk.right_wall;
         let v = if seeking {
             target_approach(Point2::new(cfg.look_ahead_m, 0.0), self.gains())
         } else {
@@ -1058,11 +1253,13 @@ impl<'a> Explorer<'a> {
             )
         };
         ex.phase = Phase::FreeSpace {
-            entrance,
-            right_wall,
-            seeking,
+            entrance: walk.entrance,
+            right_wall: walk.right_wall,
+            seeking: walk.seeking,
+            passes: walk.passes,
+            away: walk.away,
             exit,
-            entered_driven_m,
+            entered_driven_m: walk.entered_driven_m,
         };
         self.state = State::Explore(ex);
         Ok(v)

@@ -138,6 +138,8 @@ const WALL_RESIDUAL_M: f64 = 0.03;
 /// ... and seen by at least this many beams, within this lateral distance.
 const WALL_MIN_POINTS: usize = 15;
 const WALL_MAX_DISTANCE_M: f64 = 3.0;
+/// Side-wall returns are kept within this of their median lateral distance, metres.
+const WALL_BAND_M: f64 = 0.1;
 
 /// Direction (robot frame, modulo π) of the straight wall on one side, if there is one.
 fn side_wall_direction(points: impl Iterator<Item = Point2>, left: bool) -> Option<f64> {
@@ -147,6 +149,15 @@ fn side_wall_direction(points: impl Iterator<Item = Point2>, left: bool) -> Opti
                 && p.y.abs() > p.x.abs() * SIDE_TAN
                 && p.y.abs() < WALL_MAX_DISTANCE_M
         })
+        .collect();
+    // Keep the wall: returns much nearer than the median lateral distance are the rising
+    // floor of an obstacle seen at a slant.
+    let mut lateral: Vec<f64> = pts.iter().map(|p| p.y.abs()).collect();
+    lateral.sort_by(f64::total_cmp);
+    let median = *lateral.get(lateral.len() / 2)?;
+    let pts: Vec<Point2> = pts
+        .into_iter()
+        .filter(|p| (p.y.abs() - median).abs() < WALL_BAND_M)
         .collect();
     if pts.len() < WALL_MIN_POINTS {
         return None;

@@ -82,7 +82,7 @@ pub struct ObstaclePiece {
     pub inclination_rad: f64,
     /// Standard deviation of the residuals about that line, metres (√V).
     pub residual_sd_m: f64,
-    /// Median rise of the steps found, metres (stairs only).
+    /// Highest riser seen, metres (stairs only).
     pub step_height_m: Option<f64>,
 }
 
@@ -101,12 +101,13 @@ pub enum Passability {
 
 /// Width of the bins the profile is reduced to, metres.
 const BIN_M: f64 = 0.05;
-/// Consecutive bin jumps above this are summed into one riser, metres.
-const JUMP_M: f64 = 0.02;
-/// A riser is a rise of more than this over at most [`RISER_RUN_M`]: lower ones are the
-/// roughness of a ramp on a grid.
+/// A riser is a height change of more than this within [`RISER_RUN_M`]; lower ones are the
+/// roughness of a ramp on a grid (a 20° ramp on a 0.1 m grid rises 3.6 cm per cell).
 const RISER_MIN_M: f64 = 0.05;
-const RISER_RUN_M: f64 = 0.12;
+/// Shortest run over which a grade is taken for the passability judgement, metres.
+const GRADE_BASE_M: f64 = 0.1;
+/// Horizontal window within which a riser's height is measured: about a vertical face.
+const RISER_RUN_M: f64 = 0.06;
 
 /// The obstacle profile of Fig. 4 seen from level floor: (distance along the path, height
 /// above the floor the robot stands on) pairs. Only returns taken while the robot stands
@@ -158,35 +159,31 @@ impl ObstacleProfile {
         out
     }
 
-    /// Risers in the binned profile: (position, signed rise) of each group of consecutive
-    /// jumps that adds up to more than [`RISER_MIN_M`] within [`RISER_RUN_M`].
-    fn risers(bins: &[(f64, f64)]) -> Vec<(f64, f64)> {
-        let mut out = Vec::new();
-        let mut i = 0;
-        while i + 1 < bins.len() {
-            let dz = bins[i + 1].1 - bins[i].1;
-            if dz.abs() <= JUMP_M {
-                i += 1;
-                continue;
-            }
-            let sign = dz.signum();
-            let start = bins[i].0;
-            let mut sum = 0.0;
-            let mut j = i;
-            while j + 1 < bins.len() {
-                let d = bins[j + 1].1 - bins[j].1;
-                if d.abs() <= JUMP_M || d.signum() != sign {
-                    break;
-                }
-                sum += d;
+    /// The highest riser among the points beyond `from_m`: the largest height range, about
+    /// the points' least-squares line, inside any window [`RISER_RUN_M`] long, if above
+    /// [`RISER_MIN_M`]. (Taken about the line, a ramp's rise across the window is not a
+    /// riser.)
+    fn max_riser(&self, from_m: f64) -> Option<f64> {
+        let mut pts: Vec<(f64, f64)> =
+            self.points.iter().copied().filter(|p| p.0 >= from_m).collect();
+        let slope = line_fit(&pts).map_or(0.0, |f| f.slope);
+        for p in &mut pts {
+            p.1 -= slope * p.0;
+        }
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best: f64 = 0.0;
+        let mut j = 0;
+        for i in 0..pts.len() {
+            j = j.max(i);
+            while j + 1 < pts.len() && pts[j + 1].0 - pts[i].0 <= RISER_RUN_M {
                 j += 1;
             }
-            if sum.abs() > RISER_MIN_M && bins[j].0 - start <= RISER_RUN_M {
-                out.push(((start + bins[j].0) / 2.0, sum));
-            }
-            i = j.max(i + 1);
+            let (lo, hi) = pts[i..=j].iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.1), hi.max(p.1))
+            });
+            best = best.max(hi - lo);
         }
-        out
+        (best > RISER_MIN_M).then_some(best)
     }
 
     /// Judges the obstacle ahead for a robot that climbs `max_inclination_rad` and steps of
@@ -202,13 +199,9 @@ impl ObstacleProfile {
         let Some((first, last)) = seen.first().copied().zip(seen.last().copied()) else {
             return Passability::Undecided;
         };
-        // The floor the robot stands on is level 0 before the obstacle.
-        let bins: Vec<(f64, f64)> = std::iter::once((first.0 - 2.0 * BIN_M, 0.0))
-            .chain(seen)
-            .collect();
-        let risers = Self::risers(&bins);
-        let step = risers.iter().map(|r| r.1.abs()).fold(0.0, f64::max);
-        let fit = line_fit(&bins[1..]);
+        let riser = self.max_riser(from_m);
+        let step = riser.unwrap_or(0.0);
+        let fit = line_fit(&seen);
         if step > max_step_m {
             return Passability::Impassable {
                 inclination_rad: fit.map_or(0.0, |f| f.slope.atan().abs()),
@@ -218,21 +211,31 @@ impl ObstacleProfile {
         if last.0 - first.0 < judge_length_m {
             return Passability::Undecided;
         }
-        match fit {
-            Some(f) if risers.is_empty() && f.slope.atan().abs() > max_inclination_rad => {
-                Passability::Impassable {
-                    inclination_rad: f.slope.atan().abs(),
-                    step_m: None,
+        // Without risers, the steepest grade between bins at least a grid cell apart: a short
+        // view of a ramp on a grid may hold too few cells for a fair line.
+        let mut steepest: f64 = fit.map_or(0.0, |f| f.slope.abs());
+        for (i, a) in seen.iter().enumerate() {
+            for b in &seen[i + 1..] {
+                if b.0 - a.0 >= GRADE_BASE_M {
+                    steepest = steepest.max(((b.1 - a.1) / (b.0 - a.0)).abs());
                 }
             }
-            _ => Passability::Passable,
         }
+        if riser.is_none() && steepest.atan() > max_inclination_rad {
+            return Passability::Impassable {
+                inclination_rad: steepest.atan(),
+                step_m: None,
+            };
+        }
+        Passability::Passable
     }
 
     /// Describes the obstacle in this observation: the points from the first one off the
-    /// level by more than `detect_height_m / 2` on. A least-squares line through them gives
-    /// the inclination; the standard deviation of the residuals (√V) above
-    /// `stairs_min_residual_sd_m` makes it stairs, whose step height is the median riser.
+    /// level by more than `detect_height_m / 2` on. The standard deviation of their residuals
+    /// about a least-squares line (√V) above `stairs_min_residual_sd_m` makes it stairs,
+    /// whose step height is its highest riser (the paper saves "the maximum height of the
+    /// stairs"); the inclination is the slope of the line through the 5 cm bins of the
+    /// profile.
     /// `None` when less than `min_length_m` of obstacle was seen.
     pub fn piece(
         &self,
@@ -257,22 +260,19 @@ impl ObstacleProfile {
             return None;
         }
         let fit = line_fit(&part)?;
+        // The inclination from the binned profile, every 5 cm weighing the same: the laser
+        // sees the far part of each grid cell of a ramp more often than the near part.
+        let part_bins: Vec<(f64, f64)> =
+            self.bins().into_iter().filter(|b| b.0 >= start_m).collect();
+        let slope = line_fit(&part_bins).map_or(fit.slope, |f| f.slope);
         let mean_z = part.iter().map(|p| p.1).sum::<f64>() / part.len() as f64;
         let shape = if fit.residual_sd > stairs_min_residual_sd_m {
             ObstacleShape::Stairs
         } else {
             ObstacleShape::Slope
         };
-        // The floor the robot stands on is level 0 before the obstacle.
-        let bins: Vec<(f64, f64)> = std::iter::once((start_m - 2.0 * BIN_M, 0.0))
-            .chain(self.bins().into_iter().filter(|b| b.0 >= start_m))
-            .collect();
-        let mut rises: Vec<f64> = Self::risers(&bins).into_iter().map(|r| r.1.abs()).collect();
-        rises.sort_by(f64::total_cmp);
         let step_height_m = (shape == ObstacleShape::Stairs).then(|| {
-            rises
-                .get(rises.len() / 2)
-                .copied()
+            self.max_riser(start_m)
                 .unwrap_or_else(|| part.iter().map(|p| p.1.abs()).fold(0.0, f64::max))
         });
         Some(ObstaclePiece {
@@ -280,7 +280,7 @@ impl ObstacleProfile {
             end_m,
             rising: mean_z > 0.0,
             shape,
-            inclination_rad: fit.slope.atan().abs(),
+            inclination_rad: slope.atan().abs(),
             residual_sd_m: fit.residual_sd,
             step_height_m,
         })
