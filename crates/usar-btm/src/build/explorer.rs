@@ -698,7 +698,7 @@ impl<'a> Explorer<'a> {
             .view
             .side_clearance(-cfg.free_space_strip_half_m, cfg.free_space_strip_half_m);
         if is_free_space(strip, cfg.free_space_clearance_m) {
-            return self.enter_free_space(ex, strip);
+            return self.enter_free_space(ex);
         }
         let from = self.node_position(ex.from);
         let candidate = self.candidate(from);
@@ -1147,11 +1147,7 @@ impl<'a> Explorer<'a> {
         Ok(())
     }
 
-    fn enter_free_space(
-        &mut self,
-        mut ex: Exploration,
-        strip: SideClearance,
-    ) -> Result<Velocity, BuildError> {
+    fn enter_free_space(&mut self, mut ex: Exploration) -> Result<Velocity, BuildError> {
         let at_driven = self.driven_m - self.cfg.free_space_strip_half_m;
         let at = ex
             .rec
@@ -1167,7 +1163,7 @@ impl<'a> Explorer<'a> {
         ex.from = node;
         ex.phase = Phase::FreeSpace {
             entrance: node,
-            right_wall: follow_right_wall(strip),
+            right_wall: true,
             seeking: true,
             passes: 0,
             away: false,
@@ -1233,10 +1229,22 @@ impl<'a> Explorer<'a> {
         // the entrance too when the walls lead back to it, to follow them further.
         let blocked_ahead =
             self.view.front_clearance(self.spec.width_m / 2.0 + 0.1) < cfg.wall_distance_m + 0.1;
-        if walk.seeking
-            && (blocked_ahead || side_distance(&self.view, walk.right_wall) < cfg.wall_distance_m)
-        {
-            walk.seeking = false;
+        if walk.seeking {
+            // The wall met decides the side (§IV-B: the nearer wall is followed); met head-on,
+            // the nearer side wall, ties going right.
+            let right = side_distance(&self.view, true);
+            let left = side_distance(&self.view, false);
+            if right < cfg.wall_distance_m || left < cfg.wall_distance_m || blocked_ahead {
+                walk.seeking = false;
+                walk.right_wall = if right < cfg.wall_distance_m || left < cfg.wall_distance_m {
+                    right <= left
+                } else {
+                    follow_right_wall(self.view.side_clearance(
+                        -cfg.free_space_strip_half_m,
+                        cfg.free_space_strip_half_m,
+                    ))
+                };
+            }
         }
         let seeking = walk.seeking || (near_entrance && !blocked_ahead);
         let right_wall = walk.right_wall;

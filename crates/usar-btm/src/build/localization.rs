@@ -30,6 +30,8 @@ pub fn relative(a: Pose2, b: Pose2) -> Pose2 {
 
 struct KeyScan {
     pose: Pose2,
+    /// Taken on an obstacle: its view ahead and behind holds the rising floor.
+    on_obstacle: bool,
     beams: Vec<Option<Point2>>,
     angle_min_rad: f64,
     angle_increment_rad: f64,
@@ -80,16 +82,21 @@ impl Localizer {
         self.last_odometry = odometry;
     }
 
-    /// Corrects the estimate with `scan`; with `sides_only` (on an obstacle) only the points
-    /// within 40° of either side are matched.
+    /// Corrects the estimate with `scan`; with `sides_only` (on an obstacle) only the heading,
+    /// from the straight walls within 40° of either side.
     pub fn correct(&mut self, scan: &ScanView, sides_only: bool) {
         if !self.scan_matching {
             return;
         }
         let Some(key) = &self.key else {
-            self.take_key(scan);
+            self.take_key(scan, sides_only);
             return;
         };
+        if key.on_obstacle && !sides_only {
+            // Back on level floor: a key from the obstacle would hold its moving false walls.
+            self.take_key(scan, false);
+            return;
+        }
         if sides_only {
             match match_heading(key, scan, self.pose.theta) {
                 Some(theta) => {
@@ -111,13 +118,14 @@ impl Localizer {
         let moved = self.pose.position().distance(key.pose.position());
         let turned = normalize_angle(self.pose.theta - key.pose.theta).abs();
         if moved > self.keyframe_distance_m || turned > self.keyframe_angle_rad {
-            self.take_key(scan);
+            self.take_key(scan, sides_only);
         }
     }
 
-    fn take_key(&mut self, scan: &ScanView) {
+    fn take_key(&mut self, scan: &ScanView, on_obstacle: bool) {
         self.key = Some(KeyScan {
             pose: self.pose,
+            on_obstacle,
             beams: scan.beams.clone(),
             angle_min_rad: scan.angle_min_rad,
             angle_increment_rad: scan.angle_increment_rad,
@@ -138,6 +146,8 @@ const WALL_RESIDUAL_M: f64 = 0.03;
 /// ... and seen by at least this many beams, within this lateral distance.
 const WALL_MIN_POINTS: usize = 15;
 const WALL_MAX_DISTANCE_M: f64 = 3.0;
+/// The headings given by the left and the right wall must agree within this, radians.
+const WALL_AGREEMENT_RAD: f64 = 0.005;
 /// Side-wall returns are kept within this of their median lateral distance, metres.
 const WALL_BAND_M: f64 = 0.1;
 
@@ -193,10 +203,8 @@ fn match_heading(key: &KeyScan, scan: &ScanView, predicted: f64) -> Option<f64> 
             corrections.push(d);
         }
     }
-    if std::env::var("BTM_DEBUG").is_ok() {
-        eprintln!("heading corr {:?}", corrections.iter().map(|c| c.to_degrees()).collect::<Vec<_>>());
-    }
-    if corrections.is_empty() {
+    // Both walls, agreeing: a wall fit spoilt by the rising floor seen at a slant disagrees.
+    if corrections.len() < 2 || (corrections[0] - corrections[1]).abs() > WALL_AGREEMENT_RAD {
         return None;
     }
     let mean = corrections.iter().sum::<f64>() / corrections.len() as f64;
