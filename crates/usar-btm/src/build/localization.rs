@@ -5,9 +5,9 @@
 //! Odometry alone drifts by several degrees of heading over a course (the simulator's
 //! rotation noise is 0.02 rad per √rad turned), which would put far nodes metres away.
 //! While the robot is on an obstacle the horizontal laser sees the rising floor ahead (or
-//! behind) as a wall that moves with the robot, and ICP would hold the robot back. Only the
-//! heading is corrected then, from the direction of the straight walls to its sides in both
-//! scans; the distance along the way comes from odometry.
+//! behind) as a wall that moves with the robot, and ICP would hold the robot back: odometry
+//! alone carries it across. Back on level floor, the heading is corrected from the direction
+//! of the straight walls to its sides, compared with the last key scan before the obstacle.
 
 use crate::build::scan::ScanView;
 use usar_world::{Point2, Pose2, normalize_angle};
@@ -30,8 +30,6 @@ pub fn relative(a: Pose2, b: Pose2) -> Pose2 {
 
 struct KeyScan {
     pose: Pose2,
-    /// Taken on an obstacle: its view ahead and behind holds the rising floor.
-    on_obstacle: bool,
     beams: Vec<Option<Point2>>,
     angle_min_rad: f64,
     angle_increment_rad: f64,
@@ -41,7 +39,14 @@ struct KeyScan {
 pub struct Localizer {
     pose: Pose2,
     last_odometry: Pose2,
+    /// Always taken on level floor.
     key: Option<KeyScan>,
+    /// Whether the last scan was taken on an obstacle.
+    on_obstacle: bool,
+    /// The last scan taken on level floor before an obstacle, with its pose.
+    last_level: Option<KeyScan>,
+    /// Where the robot came back onto level floor, while the heading is not corrected yet.
+    level_again_at: Option<Point2>,
     scan_matching: bool,
     keyframe_distance_m: f64,
     keyframe_angle_rad: f64,
@@ -62,6 +67,9 @@ impl Localizer {
             pose: start,
             last_odometry: odometry,
             key: None,
+            on_obstacle: false,
+            last_level: None,
+            level_again_at: None,
             scan_matching,
             keyframe_distance_m,
             keyframe_angle_rad,
@@ -82,61 +90,89 @@ impl Localizer {
         self.last_odometry = odometry;
     }
 
-    /// Corrects the estimate with `scan`; with `sides_only` (on an obstacle) only the heading,
-    /// from the straight walls within 40° of either side.
-    pub fn correct(&mut self, scan: &ScanView, sides_only: bool) {
+    /// Corrects the estimate with `scan`, taken on an obstacle or on level floor.
+    pub fn correct(&mut self, scan: &ScanView, on_obstacle: bool) {
         if !self.scan_matching {
             return;
         }
-        let Some(key) = &self.key else {
-            self.take_key(scan, sides_only);
-            return;
-        };
-        if key.on_obstacle && !sides_only {
-            // Back on level floor: a key from the obstacle would hold its moving false walls.
-            self.take_key(scan, false);
+        if on_obstacle {
+            // Odometry alone: rising floor seen at a slant spoils even the side walls.
+            self.on_obstacle = true;
             return;
         }
-        if sides_only {
-            match match_heading(key, scan, self.pose.theta) {
+        if std::mem::take(&mut self.on_obstacle) {
+            self.level_again_at = Some(self.pose.position());
+        }
+        if let Some(since) = self.level_again_at {
+            // Back on level floor: once the obstacle is far enough behind not to show in the
+            // side sectors, the heading from the side walls as they were in the last level
+            // scan before it (walls' directions do not depend on where they are seen from),
+            // then a fresh key scan. Odometry until then.
+            if self.pose.position().distance(since) < BRIDGE_DELAY_M {
+                return;
+            }
+            let corrected = self
+                .last_level
+                .as_ref()
+                .and_then(|before| match_heading(before, scan, self.pose.theta));
+            match corrected {
                 Some(theta) => {
                     self.pose.theta = theta;
                     self.matched += 1;
                 }
-                None => self.rejected += 1,
-            }
-        } else {
-            let guess = relative(key.pose, self.pose);
-            match match_scan(key, scan, guess) {
-                Some(t) => {
-                    self.pose = compose(key.pose, t);
-                    self.matched += 1;
+                // Tried again on the next scans, up to a limit.
+                None if self.pose.position().distance(since) < BRIDGE_DELAY_M + BRIDGE_TRIES_M => {
+                    self.rejected += 1;
+                    return;
                 }
                 None => self.rejected += 1,
             }
+            self.level_again_at = None;
+            self.take_key(scan);
+            self.last_level = Some(self.snapshot(scan));
+            return;
+        }
+        let Some(key) = &self.key else {
+            self.take_key(scan);
+            return;
+        };
+        let guess = relative(key.pose, self.pose);
+        match match_scan(key, scan, guess) {
+            Some(t) => {
+                self.pose = compose(key.pose, t);
+                self.matched += 1;
+            }
+            None => self.rejected += 1,
         }
         let moved = self.pose.position().distance(key.pose.position());
         let turned = normalize_angle(self.pose.theta - key.pose.theta).abs();
         if moved > self.keyframe_distance_m || turned > self.keyframe_angle_rad {
-            self.take_key(scan, sides_only);
+            self.take_key(scan);
         }
+        self.last_level = Some(self.snapshot(scan));
     }
 
-    fn take_key(&mut self, scan: &ScanView, on_obstacle: bool) {
-        self.key = Some(KeyScan {
+    fn snapshot(&self, scan: &ScanView) -> KeyScan {
+        KeyScan {
             pose: self.pose,
-            on_obstacle,
             beams: scan.beams.clone(),
             angle_min_rad: scan.angle_min_rad,
             angle_increment_rad: scan.angle_increment_rad,
-        });
+        }
+    }
+
+    fn take_key(&mut self, scan: &ScanView) {
+        self.key = Some(self.snapshot(scan));
     }
 }
-
 /// Beams searched either side of the projected one.
 const SEARCH_BEAMS: i64 = 3;
 const ITERATIONS: usize = 12;
 const MIN_PAIRS: usize = 40;
+/// Level distance driven after an obstacle before its heading is corrected, metres.
+const BRIDGE_DELAY_M: f64 = 0.6;
+/// Distance over which the heading correction is tried again, metres.
+const BRIDGE_TRIES_M: f64 = 1.5;
 /// A key point farther than this from the line through its neighbours is on a corner.
 const COLLINEAR_M: f64 = 0.02;
 /// tan 50°: "to the side" is within 40° of ±90°.
@@ -147,7 +183,7 @@ const WALL_RESIDUAL_M: f64 = 0.03;
 const WALL_MIN_POINTS: usize = 15;
 const WALL_MAX_DISTANCE_M: f64 = 3.0;
 /// The headings given by the left and the right wall must agree within this, radians.
-const WALL_AGREEMENT_RAD: f64 = 0.005;
+const WALL_AGREEMENT_RAD: f64 = 0.008;
 /// Side-wall returns are kept within this of their median lateral distance, metres.
 const WALL_BAND_M: f64 = 0.1;
 
