@@ -34,7 +34,10 @@ fn crawler_runs() -> &'static Vec<BuildOutcome> {
                 .iter()
                 .map(|&seed| s.spawn(move || run(RobotSpec::crawler(), seed)))
                 .collect();
-            handles.into_iter().map(|h| h.join().expect("run")).collect()
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("run"))
+                .collect()
         })
     })
 }
@@ -91,7 +94,12 @@ fn the_crawler_finds_every_junction_dead_end_and_corner_within_1_m() {
     let errors = junction_errors(&out.btm);
     assert_eq!(errors.len(), 9);
     for (k, p, d) in &errors {
-        assert!(*d < 1.0, "{k:?} at ({:.1}, {:.1}): nearest node {d:.2} m away", p.x, p.y);
+        assert!(
+            *d < 1.0,
+            "{k:?} at ({:.1}, {:.1}): nearest node {d:.2} m away",
+            p.x,
+            p.y
+        );
     }
     // No divergence node where the truth has none.
     let divergences = out
@@ -155,7 +163,10 @@ fn slope_and_stairs_have_obstacle_nodes_of_their_shape_measured_within_20_percen
                 let error = (measured - inclination_rad).abs() / inclination_rad;
                 assert!(error < 0.2, "slope {measured} vs {inclination_rad}");
                 let body = nodes[0].max_robot_inclination_rad.expect("max inclination");
-                assert!(body > 0.8 * inclination_rad && body < 1.3 * inclination_rad, "{body}");
+                assert!(
+                    body > 0.8 * inclination_rad && body < 1.3 * inclination_rad,
+                    "{body}"
+                );
                 checked += 1;
             }
             TerrainFeature::Stairs {
@@ -215,11 +226,7 @@ fn counterpart(reference: &Btm, n: &Node) -> Option<(u32, f64)> {
 }
 
 /// Links as unordered pairs of reference node ids, for the nodes `keep` accepts.
-fn link_pairs(
-    btm: &Btm,
-    reference: &Btm,
-    keep: impl Fn(&Node) -> bool,
-) -> BTreeSet<(u32, u32)> {
+fn link_pairs(btm: &Btm, reference: &Btm, keep: impl Fn(&Node) -> bool) -> BTreeSet<(u32, u32)> {
     let map = |id: u32| {
         btm.node(id)
             .filter(|n| keep(n))
@@ -245,10 +252,19 @@ fn five_seeds_give_the_same_topology_with_nodes_within_half_a_metre() {
         let mut matched = BTreeSet::new();
         for n in &out.btm.nodes {
             let (id, d) = counterpart(reference, n).expect("same kinds");
-            assert!(d < 0.5, "seed {seed}: {} {:?} {d:.2} m from seed 1's", n.kind, n.subtype);
+            assert!(
+                d < 0.5,
+                "seed {seed}: {} {:?} {d:.2} m from seed 1's",
+                n.kind,
+                n.subtype
+            );
             matched.insert(id);
         }
-        assert_eq!(matched.len(), reference.nodes.len(), "seed {seed}: one-to-one");
+        assert_eq!(
+            matched.len(),
+            reference.nodes.len(),
+            "seed {seed}: one-to-one"
+        );
         assert_eq!(
             link_pairs(&out.btm, reference, |_| true),
             link_pairs(reference, reference, |_| true),
@@ -293,7 +309,12 @@ fn the_wheeled_robot_builds_the_crawlers_btm_except_around_slope_and_stairs() {
     assert_eq!(kinds(wheeled), kinds(crawler));
     for n in wheeled.nodes.iter().filter(|n| common(n)) {
         let (_, d) = counterpart(crawler, n).expect("a counterpart");
-        assert!(d < 1.0, "{} {:?} {d:.2} m from the crawler's", n.kind, n.subtype);
+        assert!(
+            d < 1.0,
+            "{} {:?} {d:.2} m from the crawler's",
+            n.kind,
+            n.subtype
+        );
     }
     assert_eq!(
         link_pairs(wheeled, crawler, common),

@@ -189,7 +189,11 @@ mod tests {
     #[test]
     fn a_plain_passage_has_no_divergence_triangle() {
         let p = Point2::new;
-        let pts = [wall(p(0.0, 0.8), p(4.0, 0.8)), wall(p(0.0, -0.8), p(4.0, -0.8))].concat();
+        let pts = [
+            wall(p(0.0, 0.8), p(4.0, 0.8)),
+            wall(p(0.0, -0.8), p(4.0, -0.8)),
+        ]
+        .concat();
         assert!(divergence_triangles(&pts, 0.3, 4.0, 0.45, 8f64.to_radians()).is_empty());
     }
 
@@ -197,7 +201,11 @@ mod tests {
     fn open_directions_of_a_t_junction_are_back_left_and_right() {
         let dirs = open_directions(&t_junction(), Point2::new(3.2, 0.0), 1.5, 0.45);
         assert_eq!(dirs.len(), 3, "{dirs:?}");
-        let expect = [std::f64::consts::FRAC_PI_2, std::f64::consts::PI, 1.5 * std::f64::consts::PI];
+        let expect = [
+            std::f64::consts::FRAC_PI_2,
+            std::f64::consts::PI,
+            1.5 * std::f64::consts::PI,
+        ];
         for (d, e) in dirs.iter().zip(expect) {
             assert!(normalize_angle(d - e).abs() < 0.2, "{dirs:?}");
         }
@@ -217,7 +225,11 @@ mod tests {
         let best = tris.first().expect("a triangle");
         assert!(best.circumcentre.distance(p(2.2, 0.0)) < 0.3, "{best:?}");
         let dirs = open_directions(&pts, best.circumcentre, best.circumradius_m + 0.5, 0.45);
-        assert_eq!(divergence_subtype(&dirs, 0.6), Some(subtype::DEAD_END), "{dirs:?}");
+        assert_eq!(
+            divergence_subtype(&dirs, 0.6),
+            Some(subtype::DEAD_END),
+            "{dirs:?}"
+        );
     }
 
     #[test]
@@ -230,6 +242,13 @@ mod tests {
         .unwrap();
         assert!((c.x - 1.0).abs() < 1e-12 && (c.y - 1.0).abs() < 1e-12);
         assert!((r - 2f64.sqrt()).abs() < 1e-12);
-        assert!(circumcircle(Point2::new(0.0, 0.0), Point2::new(1.0, 1.0), Point2::new(2.0, 2.0)).is_none());
+        assert!(
+            circumcircle(
+                Point2::new(0.0, 0.0),
+                Point2::new(1.0, 1.0),
+                Point2::new(2.0, 2.0)
+            )
+            .is_none()
+        );
     }
 }

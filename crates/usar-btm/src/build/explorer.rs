@@ -371,7 +371,12 @@ impl<'a> Explorer<'a> {
             .find(|t| t.circumcentre.distance(Point2::default()) < CANDIDATE_TRACK_M)
         {
             let centre = pose.to_world(t.circumcentre);
-            let dirs = open_directions(&world, centre, t.circumradius_m + cfg.search_margin_m, width);
+            let dirs = open_directions(
+                &world,
+                centre,
+                t.circumradius_m + cfg.search_margin_m,
+                width,
+            );
             if let Some(sub) = divergence_subtype(&dirs, STRAIGHT_TOLERANCE_RAD) {
                 let node = self
                     .map
@@ -678,8 +683,8 @@ impl<'a> Explorer<'a> {
             let c = t.circumcentre;
             let world = pose.to_world(c);
             let distance = c.distance(Point2::default());
-            let visible = self.view.min_range_near(c.y.atan2(c.x), 1f64.to_radians())
-                >= distance - 0.3;
+            let visible =
+                self.view.min_range_near(c.y.atan2(c.x), 1f64.to_radians()) >= distance - 0.3;
             let known = world.distance(from) < cfg.node_exclusion_m
                 || self
                     .ignored
@@ -719,7 +724,9 @@ impl<'a> Explorer<'a> {
             (RunMode::DeadEndRun, _) => {
                 // A dead end no triangle showed: classify where the robot stands.
                 let here = self.pose().position();
-                let ahead = self.pose().to_world(Point2::new(cfg.run_strip_m / 2.0, 0.0));
+                let ahead = self
+                    .pose()
+                    .to_world(Point2::new(cfg.run_strip_m / 2.0, 0.0));
                 if self.arrive(&mut ex, ahead, self.spec.width_m)? {
                     return Ok(Velocity::default());
                 }
@@ -747,11 +754,11 @@ impl<'a> Explorer<'a> {
         }
         self.mode = RunMode::BranchSelection;
         let from = self.node_position(ex.from);
-        if let Some((c, r)) = self.candidate(from) {
-            if c.distance(centre) < CANDIDATE_TRACK_M {
-                centre = c;
-                radius_m = r;
-            }
+        if let Some((c, r)) = self.candidate(from)
+            && c.distance(centre) < CANDIDATE_TRACK_M
+        {
+            centre = c;
+            radius_m = r;
         }
         let pose = self.pose();
         let distance = pose.position().distance(centre);
@@ -862,7 +869,8 @@ impl<'a> Explorer<'a> {
         if let Some((_, node)) = known {
             let at = self.node_position(node);
             let back = at.bearing_to(back_point);
-            self.map.close_link(ex.link, node, ex.rec.measures(from, at))?;
+            self.map
+                .close_link(ex.link, node, ex.rec.measures(from, at))?;
             let stub = open_links(&self.map.btm, node)
                 .map(|l| (normalize_angle(l.direction_rad - back).abs(), l.id))
                 .filter(|(d, _)| *d < ENTRY_MATCH_RAD)
@@ -911,8 +919,9 @@ impl<'a> Explorer<'a> {
         if self.inclination_rad > c.max_inclination_rad {
             c.max_inclination_rad = self.inclination_rad;
             if let Some(node) = c.last_node {
-                self.map
-                    .update_node(node, |n| n.max_robot_inclination_rad = Some(c.max_inclination_rad))?;
+                self.map.update_node(node, |n| {
+                    n.max_robot_inclination_rad = Some(c.max_inclination_rad)
+                })?;
             }
         }
         let mut hold = false;
@@ -1060,7 +1069,8 @@ impl<'a> Explorer<'a> {
             },
         )?;
         let from = self.node_position(ex.from);
-        self.map.close_link(ex.link, node, ex.rec.measures(from, at))?;
+        self.map
+            .close_link(ex.link, node, ex.rec.measures(from, at))?;
         self.node = node;
         self.state = State::Backoff {
             until_driven_m: self.driven_m + BACKOFF_M,
@@ -1099,12 +1109,12 @@ impl<'a> Explorer<'a> {
 
     /// The robot has begun to climb what it observed: an obstacle node at the obstacle's
     /// start ends the link driven so far, and a new link leaves it.
-    fn close_observation(&mut self, ex: &mut Exploration, c: &mut Crossing) -> Result<(), BuildError> {
+    fn close_observation(
+        &mut self,
+        ex: &mut Exploration,
+        c: &mut Crossing,
+    ) -> Result<(), BuildError> {
         c.observing = false;
-        if let Ok(dir) = std::env::var("BTM_PROFILE_DIR") {
-            let text: String = c.profile.points().iter().map(|p| format!("{} {}\n", p.0, p.1)).collect();
-            let _ = std::fs::write(format!("{dir}/obs_{:.0}.txt", c.start_driven_m), text);
-        }
         let Some(piece) = c.profile.piece(
             self.cfg.obstacle_detect_height_m,
             self.cfg.stairs_min_residual_sd_m,
@@ -1139,7 +1149,8 @@ impl<'a> Explorer<'a> {
         )?;
         let before = ex.rec.split_before(self.driven_m);
         let from = self.node_position(ex.from);
-        self.map.close_link(ex.link, node, before.measures(from, at))?;
+        self.map
+            .close_link(ex.link, node, before.measures(from, at))?;
         ex.link = self.map.add_unsearched(node, pose.theta)?;
         ex.from = node;
         c.last_node = Some(node);
@@ -1158,7 +1169,8 @@ impl<'a> Explorer<'a> {
             .add_node(at, kind::FREE_SPACE, Some(subtype::ENTRANCE), |_| {})?;
         let before = ex.rec.split_before(at_driven);
         let from = self.node_position(ex.from);
-        self.map.close_link(ex.link, node, before.measures(from, at))?;
+        self.map
+            .close_link(ex.link, node, before.measures(from, at))?;
         ex.link = self.map.add_unsearched(node, self.pose().theta)?;
         ex.from = node;
         ex.phase = Phase::FreeSpace {
@@ -1203,26 +1215,27 @@ impl<'a> Explorer<'a> {
             self.plan_return(walk.entrance)?;
             return Ok(Velocity::default());
         }
-        if inside_m > FREE_SPACE_MIN_M && !near_entrance {
-            if let Some(at) = exit.update(
+        if inside_m > FREE_SPACE_MIN_M
+            && !near_entrance
+            && let Some(at) = exit.update(
                 self.beside(),
                 cfg.free_space_clearance_m,
                 self.step_m,
                 here,
                 cfg.free_space_exit_confirm_m,
-            ) {
-                let node = self
-                    .map
-                    .add_node(at, kind::FREE_SPACE, Some(subtype::EXIT), |_| {})?;
-                self.map
-                    .close_link(ex.link, node, ex.rec.measures(entrance_at, at))?;
-                ex.link = self.map.add_unsearched(node, self.pose().theta)?;
-                ex.from = node;
-                ex.rec = LinkRecorder::default();
-                ex.phase = Phase::Running;
-                self.state = State::Explore(ex);
-                return Ok(Velocity::default());
-            }
+            )
+        {
+            let node = self
+                .map
+                .add_node(at, kind::FREE_SPACE, Some(subtype::EXIT), |_| {})?;
+            self.map
+                .close_link(ex.link, node, ex.rec.measures(entrance_at, at))?;
+            ex.link = self.map.add_unsearched(node, self.pose().theta)?;
+            ex.from = node;
+            ex.rec = LinkRecorder::default();
+            ex.phase = Phase::Running;
+            self.state = State::Explore(ex);
+            return Ok(Velocity::default());
         }
         // Straight into the open area until a wall is met: turning at once towards the side
         // wall would lead round the door jamb and back out of the entrance. Straight on past
@@ -1236,14 +1249,15 @@ impl<'a> Explorer<'a> {
             let left = side_distance(&self.view, false);
             if right < cfg.wall_distance_m || left < cfg.wall_distance_m || blocked_ahead {
                 walk.seeking = false;
-                walk.right_wall = if right < cfg.wall_distance_m || left < cfg.wall_distance_m {
-                    right <= left
-                } else {
-                    follow_right_wall(self.view.side_clearance(
-                        -cfg.free_space_strip_half_m,
-                        cfg.free_space_strip_half_m,
-                    ))
-                };
+                walk.right_wall =
+                    if right < cfg.wall_distance_m || left < cfg.wall_distance_m {
+                        right <= left
+                    } else {
+                        follow_right_wall(self.view.side_clearance(
+                            -cfg.free_space_strip_half_m,
+                            cfg.free_space_strip_half_m,
+                        ))
+                    };
             }
         }
         let seeking = walk.seeking || (near_entrance && !blocked_ahead);

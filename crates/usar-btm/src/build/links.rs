@@ -56,7 +56,10 @@ impl LinkRecorder {
     /// Where the robot was after `driven_m`, interpolated; the nearest end outside the range.
     pub fn position_at(&self, driven_m: f64) -> Option<Point2> {
         let i = self.samples.partition_point(|s| s.driven_m < driven_m);
-        match (i.checked_sub(1).map(|j| self.samples[j]), self.samples.get(i)) {
+        match (
+            i.checked_sub(1).map(|j| self.samples[j]),
+            self.samples.get(i),
+        ) {
             (Some(a), Some(b)) if b.driven_m > a.driven_m => {
                 let t = (driven_m - a.driven_m) / (b.driven_m - a.driven_m);
                 Some(Point2::new(
@@ -95,7 +98,11 @@ impl LinkRecorder {
         LinkMeasures {
             length_m,
             min_width_m: self.samples.iter().map(|s| s.width_m).reduce(f64::min),
-            max_inclination_rad: self.samples.iter().map(|s| s.inclination_rad).reduce(f64::max),
+            max_inclination_rad: self
+                .samples
+                .iter()
+                .map(|s| s.inclination_rad)
+                .reduce(f64::max),
             path,
         }
     }
@@ -168,7 +175,9 @@ impl<'s> MapWriter<'s> {
     /// Adds an un-searched link leaving `start` in `direction_rad`.
     pub fn add_unsearched(&mut self, start: u32, direction_rad: f64) -> Result<u32, BtmError> {
         let id = self.btm.next_link_id();
-        self.btm.links.push(Link::unsearched(id, start, direction_rad));
+        self.btm
+            .links
+            .push(Link::unsearched(id, start, direction_rad));
         self.put_link(id)?;
         Ok(id)
     }

@@ -209,7 +209,9 @@ fn side_wall_direction(points: impl Iterator<Item = Point2>, left: bool) -> Opti
         return None;
     }
     let n = pts.len() as f64;
-    let (mx, my) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.x / n, a.1 + p.y / n));
+    let (mx, my) = pts
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.x / n, a.1 + p.y / n));
     let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
     for p in &pts {
         let (dx, dy) = (p.x - mx, p.y - my);
@@ -399,10 +401,10 @@ mod tests {
         let start = Pose2::new(2.0, 2.0, 0.1);
         let truth = Pose2::new(2.5, 2.1, 0.2);
         let mut loc = Localizer::new(start, start, true, 1.0, 0.5);
-        loc.correct(&box_scan(start), true);
+        loc.correct(&box_scan(start), false);
         // Odometry says 0.05 rad less turn and 5 cm less travel than the truth.
         loc.predict(Pose2::new(2.45, 2.1, 0.15));
-        loc.correct(&box_scan(truth), true);
+        loc.correct(&box_scan(truth), false);
         let p = loc.pose();
         assert!(p.position().distance(truth.position()) < 0.01, "{p:?}");
         assert!((p.theta - truth.theta).abs() < 0.002, "{p:?}");

@@ -164,8 +164,12 @@ impl ObstacleProfile {
     /// [`RISER_MIN_M`]. (Taken about the line, a ramp's rise across the window is not a
     /// riser.)
     fn max_riser(&self, from_m: f64) -> Option<f64> {
-        let mut pts: Vec<(f64, f64)> =
-            self.points.iter().copied().filter(|p| p.0 >= from_m).collect();
+        let mut pts: Vec<(f64, f64)> = self
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= from_m)
+            .collect();
         let slope = line_fit(&pts).map_or(0.0, |f| f.slope);
         for p in &mut pts {
             p.1 -= slope * p.0;
@@ -178,9 +182,11 @@ impl ObstacleProfile {
             while j + 1 < pts.len() && pts[j + 1].0 - pts[i].0 <= RISER_RUN_M {
                 j += 1;
             }
-            let (lo, hi) = pts[i..=j].iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.1), hi.max(p.1))
-            });
+            let (lo, hi) = pts[i..=j]
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p.1), hi.max(p.1))
+                });
             best = best.max(hi - lo);
         }
         (best > RISER_MIN_M).then_some(best)
@@ -381,11 +387,17 @@ mod tests {
         let crawler = ramp.passability(0.0, 0.25, 35f64.to_radians(), 0.2);
         assert_eq!(crawler, Passability::Passable);
         let wheeled = ramp.passability(0.0, 0.25, 15f64.to_radians(), 0.05);
-        assert!(matches!(wheeled, Passability::Impassable { .. }), "{wheeled:?}");
+        assert!(
+            matches!(wheeled, Passability::Impassable { .. }),
+            "{wheeled:?}"
+        );
         let step = profile(|x| if x < 0.2 { 0.0 } else { 0.15 }, 0.4);
         assert!(matches!(
             step.passability(0.0, 0.25, 35f64.to_radians(), 0.05),
-            Passability::Impassable { step_m: Some(_), .. }
+            Passability::Impassable {
+                step_m: Some(_),
+                ..
+            }
         ));
         assert_eq!(
             step.passability(0.0, 0.25, 35f64.to_radians(), 0.2),
