@@ -1,13 +1,17 @@
 //! `usar-btm`: Behavioral Trace Maps (paper 004). The node and link tables ([`model`]), their
-//! SQLite database written while a robot drives ([`store`]), and JSON / GraphML exchange
-//! ([`exchange`]). Generation from laser scans, locomotion, planning and merging build on these.
+//! SQLite database written while a robot drives ([`store`]), JSON / GraphML exchange
+//! ([`exchange`]), autonomous generation by a robot exploring in the simulator ([`build`])
+//! and its locomotion behaviours ([`locomotion`]).
 
+pub mod build;
 pub mod exchange;
+pub mod locomotion;
 pub mod merge;
 pub mod model;
 pub mod plan;
 pub mod render;
 pub mod store;
 
+pub use self::build::{BuildConfig, BuildError, BuildOutcome, StopReason, build_btm};
 pub use self::model::{Btm, Link, Node};
 pub use self::store::{BtmError, BtmStore};

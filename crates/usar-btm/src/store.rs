@@ -194,6 +194,15 @@ impl BtmStore {
         insert_link(&self.conn, l).map_err(|e| self.db(e))
     }
 
+    /// Deletes a link (one transaction): an un-searched link found to be the far end of a
+    /// link just driven when a loop closes. Deleting a missing id is not an error.
+    pub fn delete_link(&self, id: u32) -> Result<(), BtmError> {
+        self.conn
+            .execute("DELETE FROM links WHERE id = ?1", [id])
+            .map(|_| ())
+            .map_err(|e| self.db(e))
+    }
+
     /// Writes a whole map in one transaction (import, merge).
     pub fn put_all(&mut self, btm: &Btm) -> Result<(), BtmError> {
         let path = self.path.display().to_string();

@@ -133,3 +133,22 @@ fn graphml_has_every_node_and_link() {
     );
     assert!(g.contains("{&quot;surface&quot;:&quot;gravel&quot;}"));
 }
+
+#[test]
+fn a_deleted_link_is_gone_from_the_database() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("btm.sqlite");
+    let btm = sample();
+    let store = BtmStore::create(&path).unwrap();
+    for n in &btm.nodes {
+        store.put_node(n).unwrap();
+    }
+    for l in &btm.links {
+        store.put_link(l).unwrap();
+    }
+    store.delete_link(4).unwrap();
+    store.delete_link(99).unwrap();
+    let loaded = store.load().unwrap();
+    assert_eq!(loaded.links.len(), btm.links.len() - 1);
+    assert!(loaded.links.iter().all(|l| l.id != 4));
+}

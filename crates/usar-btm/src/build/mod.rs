@@ -1,0 +1,143 @@
+//! Autonomous generation of a Behavioral Trace Map (paper 004 §III–IV): one robot driven in
+//! the simulator from the scene's first start pose builds the BTM while it explores, and
+//! writes every new or changed node and link to the store at once.
+//!
+//! - [`divergence`]: Delaunay triangles of the laser points ahead → divergence nodes and
+//!   the links leaving them;
+//! - [`free_space`]: entrance and exit of open areas from L_l, L_r against C₁;
+//! - [`obstacle`]: the tilted laser's obstacle profile → slope and stairs nodes;
+//! - [`links`]: what is measured along a link, and the map writer;
+//! - [`localization`]: odometry corrected by scan matching (node coordinates);
+//! - [`planner`]: routes on the BTM back to un-searched links;
+//! - [`crate::locomotion`]: the run modes of §IV and Fig. 8.
+//!
+//! Exploration is depth first: at a divergence node the robot takes the first un-searched
+//! link counter-clockwise from the link it arrived by (§V-A); when a branch ends (a dead
+//! end, an obstacle it cannot cross, a loop closed onto a known node) it drives back along
+//! searched links to the nearest node that still has an un-searched one. When none is
+//! reachable it makes its terminal end node.
+//!
+//! A loop is closed when a divergence is found within [`BuildConfig::merge_radius_m`] of a
+//! known node: the link driven ends there and the known node's un-searched link that points
+//! back along it is removed, in memory and in the store ([`BtmStore::delete_link`]).
+
+pub mod config;
+pub mod divergence;
+mod explorer;
+pub mod free_space;
+pub mod links;
+pub mod localization;
+pub mod obstacle;
+pub mod planner;
+pub mod scan;
+
+pub use self::config::BuildConfig;
+
+use crate::locomotion::RunMode;
+use crate::model::Btm;
+use crate::store::{BtmError, BtmStore};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use usar_sim::RobotSpec;
+use usar_world::{Pose2, Scene};
+
+/// Key in a node's `extra` naming the robot that found the obstacle impassable.
+pub const IMPASSABLE_FOR: &str = "impassable_for";
+
+/// Why the build stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// No un-searched link was reachable any more: the terminal end node was made.
+    Explored,
+    /// [`BuildConfig::max_time_s`] ran out first.
+    TimeLimit,
+}
+
+/// The robot at one step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrajectorySample {
+    pub time_s: f64,
+    /// Where the robot believes it is (odometry and scan matching).
+    pub estimated: Pose2,
+    /// Where it really is (simulator ground truth, for evaluation only).
+    pub truth: Pose2,
+    pub mode: RunMode,
+}
+
+/// What a build produced.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BuildOutcome {
+    pub btm: Btm,
+    pub trajectory: Vec<TrajectorySample>,
+    /// Nodes by "kind" or "kind/subtype".
+    pub nodes_by_type: BTreeMap<String, usize>,
+    pub searched_links: usize,
+    pub unsearched_links: usize,
+    pub time_s: f64,
+    /// Distance the robot really drove, metres.
+    pub distance_m: f64,
+    pub collisions: u32,
+    /// Scans matched to a key scan, and matches rejected (odometry kept).
+    pub scan_matches: u64,
+    pub scan_match_rejections: u64,
+    pub stop: StopReason,
+}
+
+/// Why a build could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// The scene has no start pose.
+    #[error("scene {scene}: no start pose; expected at least one in `start_poses`")]
+    NoStartPose { scene: String },
+    /// The robot could not be placed or its spec is implausible.
+    #[error("scene {scene}: {source}")]
+    Placement {
+        scene: String,
+        source: usar_sim::PlacementError,
+    },
+    /// A configuration value is out of range.
+    #[error("build configuration field `{field}`: found {found}")]
+    Config { field: String, found: String },
+    /// Writing the BTM failed.
+    #[error(transparent)]
+    Store(#[from] BtmError),
+}
+
+/// Drives one `robot` from the first start pose of `scene` and builds its BTM, writing each
+/// new or changed node and link to `store` as it goes. A pure function of (scene, robot,
+/// config, seed): `seed` drives the simulator's sensor and odometry noise.
+pub fn build_btm(
+    scene: Arc<Scene>,
+    robot: RobotSpec,
+    config: &BuildConfig,
+    seed: u64,
+    store: Option<&BtmStore>,
+) -> Result<BuildOutcome, BuildError> {
+    config
+        .validate()
+        .map_err(|(field, found)| BuildError::Config { field, found })?;
+    let start = *scene
+        .start_poses
+        .first()
+        .ok_or_else(|| BuildError::NoStartPose {
+            scene: scene.name.clone(),
+        })?;
+    let mut explorer = explorer::Explorer::new(scene, robot, config, seed, start, store)?;
+    let stop = explorer.run()?;
+    Ok(explorer.into_outcome(stop))
+}
+
+/// Counts nodes by "kind/subtype" (or "kind" without subtype).
+pub fn count_nodes(btm: &Btm) -> BTreeMap<String, usize> {
+    let mut counts = BTreeMap::new();
+    for n in &btm.nodes {
+        let key = match &n.subtype {
+            Some(s) => format!("{}/{}", n.kind, s),
+            None => n.kind.clone(),
+        };
+        *counts.entry(key).or_insert(0) += 1;
+    }
+    counts
+}
