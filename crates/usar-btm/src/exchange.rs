@@ -84,8 +84,8 @@ fn xml_escape(s: &str) -> String {
 }
 
 /// The map as GraphML: one `<node>` per node and one `<edge>` per searched link; an
-/// un-searched link becomes an edge to a placeholder node of kind `unknown` (GraphML edges need
-/// two ends).
+/// un-searched link becomes an edge to an open-end node `u<link id>` of kind `unknown`, which
+/// stands for the unexplored far end (GraphML edges need two ends).
 pub fn to_graphml(btm: &Btm) -> String {
     let node_keys = [
         ("x_m", "double"),

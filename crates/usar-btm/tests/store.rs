@@ -1,6 +1,6 @@
 //! The BTM tables in SQLite, JSON and GraphML.
 
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::FRAC_PI_2;
 use usar_btm::exchange::{from_json, to_graphml, to_json};
 use usar_btm::model::{kind, subtype};
 use usar_btm::{Btm, BtmStore, Link, Node};
@@ -47,7 +47,18 @@ fn link_angles_are_the_gaps_between_adjacent_links_counter_clockwise() {
     assert!(btm.link_angles(3).is_empty());
     assert_eq!(btm.links_of(2).count(), 4);
     assert_eq!(btm.unsearched().count(), 1);
-    let _ = PI;
+}
+
+/// A new database holding `btm`, written node by node and link by link as a robot would.
+fn written(path: &std::path::Path, btm: &Btm) -> BtmStore {
+    let store = BtmStore::create(path).unwrap();
+    for n in &btm.nodes {
+        store.put_node(n).unwrap();
+    }
+    for l in &btm.links {
+        store.put_link(l).unwrap();
+    }
+    store
 }
 
 #[test]
@@ -56,13 +67,7 @@ fn the_database_round_trips_every_field_and_extension() {
     let path = dir.path().join("btm.sqlite");
     let btm = sample();
     {
-        let store = BtmStore::create(&path).unwrap();
-        for n in &btm.nodes {
-            store.put_node(n).unwrap();
-        }
-        for l in &btm.links {
-            store.put_link(l).unwrap();
-        }
+        written(&path, &btm);
     }
     let loaded = BtmStore::open(&path).unwrap().load().unwrap();
     assert_eq!(loaded, btm);
@@ -129,7 +134,7 @@ fn graphml_has_every_node_and_link() {
     assert_eq!(g.matches("<edge ").count(), 4);
     assert!(
         g.contains("<node id=\"u4\">"),
-        "the un-searched link ends at a placeholder"
+        "the un-searched link ends at an open-end node"
     );
     assert!(g.contains("{&quot;surface&quot;:&quot;gravel&quot;}"));
 }
@@ -139,13 +144,7 @@ fn a_deleted_link_is_gone_from_the_database() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("btm.sqlite");
     let btm = sample();
-    let store = BtmStore::create(&path).unwrap();
-    for n in &btm.nodes {
-        store.put_node(n).unwrap();
-    }
-    for l in &btm.links {
-        store.put_link(l).unwrap();
-    }
+    let store = written(&path, &btm);
     store.delete_link(4).unwrap();
     store.delete_link(99).unwrap();
     let loaded = store.load().unwrap();

@@ -10,6 +10,32 @@ pub(super) const RECENT_FLOOR_M: f64 = 0.3;
 /// Less obstacle than this seen from level floor makes no node, metres.
 const OBSTACLE_MIN_LENGTH_M: f64 = 0.1;
 
+/// The obstacle shape of paper 004's node table.
+fn obstacle_subtype(stairs: bool) -> &'static str {
+    if stairs {
+        subtype::STAIRS
+    } else {
+        subtype::SLOPE
+    }
+}
+
+/// An obstacle node's values: the step height of stairs or the inclination of a slope, and the
+/// largest body inclination measured.
+fn set_obstacle_values(
+    n: &mut crate::model::Node,
+    stairs: bool,
+    step_m: Option<f64>,
+    inclination_rad: f64,
+    max_robot_inclination_rad: f64,
+) {
+    if stairs {
+        n.step_height_m = step_m;
+    } else {
+        n.slope_inclination_rad = Some(inclination_rad);
+    }
+    n.max_robot_inclination_rad = Some(max_robot_inclination_rad);
+}
+
 pub(super) struct Crossing {
     start_driven_m: f64,
     /// The current observation, taken from level floor (x from `start_driven_m`).
@@ -234,24 +260,12 @@ impl Explorer<'_> {
         let stairs = step_m.is_some() || piece.is_some_and(|p| p.shape == ObstacleShape::Stairs);
         let step_m = piece.and_then(|p| p.step_height_m).or(step_m);
         let max_inclination = c.max_inclination_rad.max(self.inclination_rad);
-        let node = self.map.add_node(
-            at,
-            kind::OBSTACLE,
-            Some(if stairs {
-                subtype::STAIRS
-            } else {
-                subtype::SLOPE
-            }),
-            |n| {
-                if stairs {
-                    n.step_height_m = step_m;
-                } else {
-                    n.slope_inclination_rad = Some(inclination_rad);
-                }
-                n.max_robot_inclination_rad = Some(max_inclination);
+        let node = self
+            .map
+            .add_node(at, kind::OBSTACLE, Some(obstacle_subtype(stairs)), |n| {
+                set_obstacle_values(n, stairs, step_m, inclination_rad, max_inclination);
                 n.extra.insert(IMPASSABLE_FOR.into(), name.into());
-            },
-        )?;
+            })?;
         let from = self.node_position(ex.from);
         self.map
             .close_link(ex.link, node, ex.rec.measures(from, at))?;
@@ -311,26 +325,20 @@ impl Explorer<'_> {
         let at = pose.to_world(Point2::new(piece.start_m - robot_along, 0.0));
         let stairs = piece.shape == ObstacleShape::Stairs;
         let inclination = self.inclination_rad;
-        let node = self.map.add_node(
-            at,
-            kind::OBSTACLE,
-            Some(if stairs {
-                subtype::STAIRS
-            } else {
-                subtype::SLOPE
-            }),
-            |n| {
-                if stairs {
-                    n.step_height_m = piece.step_height_m;
-                } else {
-                    n.slope_inclination_rad = Some(piece.inclination_rad);
-                }
-                n.max_robot_inclination_rad = Some(inclination);
+        let node = self
+            .map
+            .add_node(at, kind::OBSTACLE, Some(obstacle_subtype(stairs)), |n| {
+                set_obstacle_values(
+                    n,
+                    stairs,
+                    piece.step_height_m,
+                    piece.inclination_rad,
+                    inclination,
+                );
                 n.extra.insert("uphill".into(), piece.rising.into());
                 n.extra
                     .insert("profile_residual_sd_m".into(), piece.residual_sd_m.into());
-            },
-        )?;
+            })?;
         let before = ex.rec.split_before(self.driven_m);
         let from = self.node_position(ex.from);
         self.map
