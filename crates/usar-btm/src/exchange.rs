@@ -32,15 +32,19 @@ pub fn node_rows(btm: &Btm) -> Vec<serde_json::Value> {
         .collect()
 }
 
-/// The map as pretty JSON (nodes as [`node_rows`]).
-pub fn to_json(btm: &Btm) -> String {
-    serde_json::to_string_pretty(&serde_json::json!({
+/// The map as the JSON exchange document (nodes as [`node_rows`]).
+pub fn to_json_value(btm: &Btm) -> serde_json::Value {
+    serde_json::json!({
         "format": JSON_FORMAT,
         "version": JSON_VERSION,
         "nodes": node_rows(btm),
         "links": btm.links,
-    }))
-    .expect("JSON serializes")
+    })
+}
+
+/// The map as pretty JSON (nodes as [`node_rows`]).
+pub fn to_json(btm: &Btm) -> String {
+    serde_json::to_string_pretty(&to_json_value(btm)).expect("JSON serializes")
 }
 
 /// Reads a map from JSON; `source` names it in errors.
@@ -170,23 +174,33 @@ pub fn to_graphml(btm: &Btm) -> String {
     out + "  </graph>\n</graphml>\n"
 }
 
-/// Reads a BTM from a `.json` file or a BTM database (any other extension).
+/// Reads a BTM from a `.json` file, a binary `.btmb` file ([`crate::wire`]) or a BTM database
+/// (any other extension).
 pub fn read(path: &std::path::Path) -> Result<Btm, String> {
-    let is_json = path
+    let ext = path
         .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    if is_json {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        return from_json(&text, &path.display().to_string());
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let cannot = |e: std::io::Error| format!("{}: cannot read: {e}", path.display());
+    match ext.as_str() {
+        "json" => {
+            let text = std::fs::read_to_string(path).map_err(cannot)?;
+            return from_json(&text, &path.display().to_string());
+        }
+        "btmb" => {
+            let bytes = std::fs::read(path).map_err(cannot)?;
+            return crate::wire::decode(&bytes).map_err(|e| format!("{}: {e}", path.display()));
+        }
+        _ => {}
     }
     crate::store::BtmStore::open(path)
         .and_then(|s| s.load())
         .map_err(|e| e.to_string())
 }
 
-/// Writes a BTM as `.json`, `.graphml` or a new BTM database (`.sqlite`), atomically: the file
-/// appears complete or not at all.
+/// Writes a BTM as `.json`, `.graphml`, binary `.btmb` or a new BTM database (`.sqlite`),
+/// atomically: the file appears complete or not at all.
 pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), String> {
     let ext = path
         .extension()
@@ -196,6 +210,10 @@ pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), String> {
     let text = match ext.as_str() {
         "json" => to_json(btm),
         "graphml" => to_graphml(btm),
+        "btmb" => {
+            return usar_world::write_atomic(path, &crate::wire::encode(btm))
+                .map_err(|e| e.to_string());
+        }
         "sqlite" | "db" => {
             let tmp = path.with_extension("sqlite.partial");
             let _ = std::fs::remove_file(&tmp);
@@ -207,7 +225,7 @@ pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), String> {
         }
         _ => {
             return Err(format!(
-                "{}: unknown BTM format {ext:?}, expected .json, .graphml or .sqlite",
+                "{}: unknown BTM format {ext:?}, expected .json, .graphml, .btmb or .sqlite",
                 path.display()
             ));
         }

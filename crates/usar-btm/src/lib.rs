@@ -1,6 +1,6 @@
 //! `usar-btm`: Behavioral Trace Maps (paper 004). The node and link tables ([`model`]), their
 //! SQLite database written while a robot drives ([`store`]), JSON / GraphML exchange
-//! ([`exchange`]), autonomous generation by a robot exploring in the simulator ([`build`])
+//! ([`exchange`]), the compact binary form for radio links ([`wire`]), autonomous generation by a robot exploring in the simulator ([`build`])
 //! and its locomotion behaviours ([`locomotion`]).
 
 pub mod build;
@@ -11,6 +11,7 @@ pub mod model;
 pub mod plan;
 pub mod render;
 pub mod store;
+pub mod wire;
 
 pub use self::build::{BuildConfig, BuildError, BuildOutcome, StopReason, build_btm};
 pub use self::model::{Btm, Link, Node};

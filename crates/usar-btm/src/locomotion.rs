@@ -26,6 +26,19 @@ pub enum RunMode {
     Returning,
 }
 
+impl RunMode {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunMode::CentralRun => "central_run",
+            RunMode::WallFollowing => "wall_following",
+            RunMode::DeadEndRun => "dead_end_run",
+            RunMode::BranchSelection => "branch_selection",
+            RunMode::ObstacleCrossing => "obstacle_crossing",
+            RunMode::Returning => "returning",
+        }
+    }
+}
+
 /// Gains of the target approach.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gains {

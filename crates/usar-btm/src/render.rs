@@ -72,6 +72,11 @@ fn bounds(btm: &Btm) -> (f64, f64, f64, f64) {
 
 /// Draws the map over `scene` (or a blank area around the map) into a canvas.
 pub fn draw(btm: &Btm, scene: Option<&Scene>) -> Canvas {
+    draw_traced(btm, scene, &[])
+}
+
+/// [`draw`], with the path the robot drove (`trace`) drawn under the map.
+pub fn draw_traced(btm: &Btm, scene: Option<&Scene>, trace: &[Point2]) -> Canvas {
     let mut canvas = match scene {
         Some(s) => render_scene(s, &RenderOptions::default()),
         None => {
@@ -88,6 +93,7 @@ pub fn draw(btm: &Btm, scene: Option<&Scene>) -> Canvas {
             c
         }
     };
+    canvas.draw_polyline(trace, [150, 190, 240]);
     for (p, q, searched) in segments(btm) {
         canvas.draw_line(p, q, if searched { [60, 60, 60] } else { [220, 0, 0] });
     }

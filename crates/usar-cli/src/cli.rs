@@ -41,22 +41,68 @@ pub enum Command {
     #[command(subcommand)]
     Maxq(MaxqCommand),
     /// Paper 004's Behavioral Trace Maps: show, export, plan on and merge topological maps.
-    /// A BTM file is a BTM database (.sqlite) or its JSON export (.json).
+    /// A BTM file is a BTM database (.sqlite), its JSON export (.json) or compact binary (.btmb).
     #[command(subcommand)]
     Btm(BtmCommand),
 }
 
 #[derive(Debug, Subcommand)]
 pub enum BtmCommand {
+    /// Build a BTM autonomously: one robot explores the scene from its first start pose (or
+    /// --start) with the paper-004 behaviours until no un-searched link is left, writing every
+    /// node and link to an SQLite database as it drives.
+    Build(BtmBuildArgs),
     /// Draw a BTM (nodes by kind, searched links, un-searched stubs) as PNG or SVG.
     Show(BtmShowArgs),
-    /// Print every node and link, or convert to .json / .graphml / .sqlite.
+    /// Print every node and link, or convert to .json / .graphml / .btmb (compact binary) / .sqlite.
     Export(BtmExportArgs),
     /// Find a route on a BTM for a robot: links narrower, steeper or with higher steps than it
     /// can take are never used; exit 3 with the reason when there is no route.
     Plan(BtmPlanArgs),
     /// Join local BTMs of several robots into one global BTM.
     Merge(BtmMergeArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct BtmBuildArgs {
+    /// Scene: a scene file, a map (.yaml, .pgm/.png with --resolution, .map) or a generator
+    /// name (course, office, mall, rubble).
+    #[arg(long, default_value = "course")]
+    pub scene: String,
+    /// Seed of a generated scene (ignored for files).
+    #[arg(long, default_value_t = 1)]
+    pub scene_seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Robot model: crawler, wheeled or a robot TOML file.
+    #[arg(long, default_value = "crawler")]
+    pub robot: String,
+    /// Seed of the sensor and odometry noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Start pose "x,y" or "x,y,theta" (metres, radians) instead of the scene's first one.
+    #[arg(long, value_parser = parse_pose, allow_hyphen_values = true)]
+    pub start: Option<(f64, f64, f64)>,
+    /// Build parameters (TOML; any field of the defaults listed in docs/btm-format.md).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Stop after this many simulated minutes even if links are left un-searched.
+    #[arg(long)]
+    pub max_minutes: Option<f64>,
+    /// The BTM database to write (.sqlite). It is written as `FILE.partial` while the robot
+    /// drives (each update committed at once) and renamed to FILE when the build ends.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also draw the BTM over the scene with the robot's trace (.png or .svg).
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Also write the robot's trajectory as CSV: time_s, the estimated and the true pose
+    /// (x_m, y_m, theta_rad) and the run mode at every step.
+    #[arg(long)]
+    pub trace: Option<PathBuf>,
+    /// Print nodes by type, links by status, sizes and every node and link as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Args)]
@@ -79,7 +125,7 @@ pub struct BtmShowArgs {
 #[derive(Debug, Args)]
 pub struct BtmExportArgs {
     pub btm: PathBuf,
-    /// Write the map to this .json, .graphml or .sqlite file.
+    /// Write the map to this .json, .graphml, .btmb (compact binary) or .sqlite file.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Print every node (id, type, subtype, x, y, attributes) and link (ends, status,
@@ -109,7 +155,7 @@ pub struct BtmMergeArgs {
     /// The local BTMs.
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
-    /// The global BTM to write (.sqlite, .json or .graphml).
+    /// The global BTM to write (.sqlite, .json, .graphml or .btmb).
     #[arg(long)]
     pub out: PathBuf,
     /// Nodes of the same kind closer than this are one place, metres.
@@ -401,6 +447,25 @@ fn parse_point(s: &str) -> Result<(f64, f64), String> {
             .map_err(|_| format!("expected a number, found {v:?} in {s:?}"))
     };
     Ok((parse(x)?, parse(y)?))
+}
+
+/// "x,y" or "x,y,theta" (metres, radians; theta defaults to 0).
+fn parse_pose(s: &str) -> Result<(f64, f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if !(2..=3).contains(&parts.len()) {
+        return Err(format!(
+            "expected \"x,y\" or \"x,y,theta\" (metres, radians), found {s:?}"
+        ));
+    }
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("expected a number, found {v:?} in {s:?}"))
+    };
+    let theta = parts.get(2).map_or(Ok(0.0), |t| parse(t))?;
+    Ok((parse(parts[0])?, parse(parts[1])?, theta))
 }
 
 #[derive(Debug, Args)]

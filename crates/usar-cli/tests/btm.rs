@@ -137,3 +137,189 @@ fn merge_show_and_bad_input() {
         "not a BTM database",
     );
 }
+
+fn build(args: &[&str]) -> serde_json::Value {
+    let out = usar(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn count(v: &serde_json::Value, key: &str) -> u64 {
+    v["nodes_by_kind"][key].as_u64().unwrap_or(0)
+}
+
+#[test]
+fn build_on_the_course_reports_nodes_links_and_a_map_100_times_smaller_than_the_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("course.sqlite");
+    let png = dir.path().join("course.png");
+    let trace = dir.path().join("trace.csv");
+    let v = build(&[
+        "btm",
+        "build",
+        "--scene",
+        "course",
+        "--robot",
+        "crawler",
+        "--seed",
+        "2",
+        "--out",
+        db.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+        "--trace",
+        trace.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(v["stop"], "explored");
+    assert_eq!(v["links_unsearched"], 0);
+    assert!(v["links_searched"].as_u64().unwrap() >= 10);
+    for kind in [
+        "divergence/t_junction",
+        "divergence/crossing",
+        "divergence/corner",
+        "divergence/dead_end",
+        "free_space/entrance",
+        "free_space/exit",
+        "obstacle/slope",
+        "obstacle/stairs",
+        "terminal/start",
+        "terminal/end",
+    ] {
+        assert!(
+            count(&v, kind) >= 1,
+            "no {kind} node: {}",
+            v["nodes_by_kind"]
+        );
+    }
+    // Every node has id, kind, x, y; every link its ends, status and measures.
+    for n in v["nodes"].as_array().unwrap() {
+        assert!(n["id"].is_u64() && n["kind"].is_string() && n["x_m"].is_f64());
+    }
+    for l in v["links"].as_array().unwrap() {
+        assert!(l["end"].is_u64() && l["searched"] == true && l["min_width_m"].is_f64());
+    }
+    let bytes = &v["bytes"];
+    assert!(
+        bytes["grid_over_binary"].as_f64().unwrap() >= 100.0,
+        "{bytes}"
+    );
+    // The database is complete (no .partial left) and holds the same map.
+    assert!(!dir.path().join("course.sqlite.partial").exists());
+    let exported = build(&["btm", "export", db.to_str().unwrap(), "--json"]);
+    assert_eq!(exported["nodes"], v["nodes"]);
+    assert_eq!(exported["links"], v["links"]);
+    // The binary form round-trips to the same topology.
+    let btmb = dir.path().join("course.btmb");
+    build(&[
+        "btm",
+        "export",
+        db.to_str().unwrap(),
+        "--out",
+        btmb.to_str().unwrap(),
+        "--json",
+    ]);
+    let back = build(&["btm", "export", btmb.to_str().unwrap(), "--json"]);
+    assert_eq!(back["nodes_by_kind"], v["nodes_by_kind"]);
+    assert_eq!(
+        back["links"].as_array().unwrap().len(),
+        v["links"].as_array().unwrap().len()
+    );
+    assert_eq!(
+        std::fs::metadata(&btmb).unwrap().len(),
+        bytes["btm_binary"].as_u64().unwrap()
+    );
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    let csv = std::fs::read_to_string(&trace).unwrap();
+    assert!(csv.starts_with("time_s,est_x_m"));
+    assert!(csv.lines().count() > 100);
+}
+
+/// Corridor junctions of the Willow Garage floor on the robot's way (read off the map: the
+/// south corridor, y ≈ 21 m, meets the west corridor at x ≈ 20.8 m and the corridor running
+/// south at x ≈ 35.7 m).
+const WILLOW_JUNCTIONS: [(f64, f64); 2] = [(20.8, 21.2), (35.7, 21.0)];
+
+#[test]
+fn build_on_the_real_willow_garage_floor_finds_its_corridor_junctions() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("willow.sqlite");
+    let config = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/btm-real-floor.toml"
+    );
+    let v = build(&[
+        "btm",
+        "build",
+        "--scene",
+        super::shared("ros/willow-full.pgm").to_str().unwrap(),
+        "--resolution",
+        "0.1",
+        "--config",
+        config,
+        "--out",
+        db.to_str().unwrap(),
+        "--json",
+    ]);
+    let divergences: Vec<(f64, f64)> = v["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|n| n["kind"] == "divergence")
+        .map(|n| (n["x_m"].as_f64().unwrap(), n["y_m"].as_f64().unwrap()))
+        .collect();
+    for (x, y) in WILLOW_JUNCTIONS {
+        let nearest = divergences
+            .iter()
+            .map(|(a, b)| (a - x).hypot(b - y))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 1.0,
+            "junction ({x}, {y}): nearest divergence node {nearest:.2} m away"
+        );
+    }
+    assert!(v["bytes"]["grid_over_binary"].as_f64().unwrap() >= 100.0);
+}
+
+#[test]
+fn build_with_bad_input_is_an_error_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("x.sqlite");
+    let config = dir.path().join("bad.toml");
+    std::fs::write(&config, "passage_margin = 0.3\n").unwrap();
+    let out = usar(&[
+        "btm",
+        "build",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        db.to_str().unwrap(),
+    ]);
+    assert_bad_input(&out, "passage_margin");
+    std::fs::write(&config, "dt_s = -1.0\n").unwrap();
+    let out = usar(&[
+        "btm",
+        "build",
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        db.to_str().unwrap(),
+    ]);
+    assert_bad_input(&out, "dt_s");
+    // A start pose inside a wall of the course.
+    let out = usar(&[
+        "btm",
+        "build",
+        "--start",
+        "0,0",
+        "--out",
+        db.to_str().unwrap(),
+    ]);
+    assert_bad_input(&out, "course");
+    assert!(!db.exists());
+    assert!(!dir.path().join("x.sqlite.partial").exists());
+}

@@ -20,6 +20,11 @@ pub struct BuildConfig {
     /// How far past 90° a triangle's largest angle may be before it counts as obtuse. The
     /// triangle inscribed in a dead end is right-angled; laser noise tilts it either way.
     pub obtuse_tolerance_rad: f64,
+    /// Gaps (triangle sides, openings between link points) count as passages when wider than
+    /// the robot by this margin. The paper takes every gap wider than the robot (0, the
+    /// default); on a cluttered real floor a margin (0.35 m in `configs/btm-real-floor.toml`)
+    /// keeps the robot to corridors and doorways instead of the slots between desks.
+    pub passage_margin_m: f64,
     /// Search circle for links (Fig. 2 f): circumradius of the triangle plus this margin.
     pub search_margin_m: f64,
     /// Candidates closer than this to the node the robot is leaving are that node again.
@@ -104,6 +109,7 @@ impl Default for BuildConfig {
             band_near_m: 0.3,
             band_far_m: 4.0,
             obtuse_tolerance_rad: 8f64.to_radians(),
+            passage_margin_m: 0.0,
             search_margin_m: 0.5,
             node_exclusion_m: 1.5,
             merge_radius_m: 1.5,
@@ -165,6 +171,7 @@ impl BuildConfig {
         }
         let non_negative = [
             ("band_near_m", self.band_near_m),
+            ("passage_margin_m", self.passage_margin_m),
             ("obtuse_tolerance_rad", self.obtuse_tolerance_rad),
             ("node_exclusion_m", self.node_exclusion_m),
             ("merge_radius_m", self.merge_radius_m),

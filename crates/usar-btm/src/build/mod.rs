@@ -45,6 +45,10 @@ use usar_world::{Pose2, Scene};
 /// Key in a node's `extra` naming the robot that found the obstacle impassable.
 pub const IMPASSABLE_FOR: &str = "impassable_for";
 
+/// Key in a link's `extra` naming the robot that gave the link (or the way to it) up after
+/// stalling there: the link stays un-searched, for another robot or the operator.
+pub const BLOCKED_FOR: &str = "blocked_for";
+
 /// Why the build stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -115,6 +119,19 @@ pub fn build_btm(
     seed: u64,
     store: Option<&BtmStore>,
 ) -> Result<BuildOutcome, BuildError> {
+    build_btm_observed(scene, robot, config, seed, store, &mut |_| {})
+}
+
+/// [`build_btm`], calling `on_progress` with the simulated time (seconds) once per simulated
+/// second, e.g. for a progress bar up to [`BuildConfig::max_time_s`].
+pub fn build_btm_observed(
+    scene: Arc<Scene>,
+    robot: RobotSpec,
+    config: &BuildConfig,
+    seed: u64,
+    store: Option<&BtmStore>,
+    on_progress: &mut dyn FnMut(f64),
+) -> Result<BuildOutcome, BuildError> {
     config
         .validate()
         .map_err(|(field, found)| BuildError::Config { field, found })?;
@@ -125,7 +142,7 @@ pub fn build_btm(
             scene: scene.name.clone(),
         })?;
     let mut explorer = explorer::Explorer::new(scene, robot, config, seed, start, store)?;
-    let stop = explorer.run()?;
+    let stop = explorer.run(on_progress)?;
     Ok(explorer.into_outcome(stop))
 }
 

@@ -6,11 +6,11 @@ use crate::model::Btm;
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};
 
-/// Links leaving a node that the robot may still explore.
+/// Links leaving a node that the robot may still explore (un-searched and not given up).
 pub fn open_links(btm: &Btm, node: u32) -> impl Iterator<Item = &crate::Link> {
-    btm.links
-        .iter()
-        .filter(move |l| l.start == node && !l.searched)
+    btm.links.iter().filter(move |l| {
+        l.start == node && !l.searched && !l.extra.contains_key(super::BLOCKED_FOR)
+    })
 }
 
 /// Whether node `id` may be driven through (an obstacle this robot could not cross may not).

@@ -109,11 +109,17 @@ impl ScanView {
     /// Distance to the nearest point inside the corridor swept by a robot of `half_width_m`
     /// driving straight ahead (x > 0, |y| ≤ half width), or the maximum range.
     pub fn front_clearance(&self, half_width_m: f64) -> f64 {
+        self.nearest_ahead(half_width_m)
+            .map_or(self.max_range_m, |p| p.x.min(self.max_range_m))
+    }
+
+    /// The nearest point (smallest x) ahead of the robot within `half_width_m` of its axis.
+    pub fn nearest_ahead(&self, half_width_m: f64) -> Option<Point2> {
         self.points
             .iter()
             .filter(|p| p.x > 0.0 && p.y.abs() <= half_width_m)
-            .map(|p| p.x)
-            .fold(self.max_range_m, f64::min)
+            .min_by(|a, b| a.x.total_cmp(&b.x))
+            .copied()
     }
 }
 

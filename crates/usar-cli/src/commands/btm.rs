@@ -1,16 +1,20 @@
 //! `usar btm`: show, export, plan on and merge Behavioral Trace Maps.
 
 use super::print_json;
-use crate::cli::{BtmCommand, BtmExportArgs, BtmMergeArgs, BtmPlanArgs, BtmShowArgs};
+use crate::cli::{BtmBuildArgs, BtmCommand, BtmExportArgs, BtmMergeArgs, BtmPlanArgs, BtmShowArgs};
 use crate::failure::{CmdResult, Failure, InputContext, bad_input};
-use crate::scene_source;
+use crate::{progress, scene_source};
 use serde_json::json;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use usar_btm::build::{BuildConfig, build_btm_observed};
 use usar_btm::plan::{RobotLimits, nearest_node, plan};
-use usar_btm::{Btm, exchange, render};
+use usar_btm::{Btm, BtmStore, exchange, render};
+use usar_world::{Point2, Pose2};
 
 pub fn run(cmd: BtmCommand) -> CmdResult {
     match cmd {
+        BtmCommand::Build(args) => build(args),
         BtmCommand::Show(args) => show(args),
         BtmCommand::Export(args) => export(args),
         BtmCommand::Plan(args) => route(args),
@@ -20,6 +24,160 @@ pub fn run(cmd: BtmCommand) -> CmdResult {
 
 fn read(path: &Path) -> CmdResult<Btm> {
     exchange::read(path).map_err(|e| bad_input(anyhow::anyhow!(e)))
+}
+
+fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
+    let mut config = match &args.config {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+            toml::from_str::<BuildConfig>(&text)
+                .map_err(|e| bad_input(anyhow::anyhow!("{}: {}", path.display(), e.message())))?
+        }
+        None => BuildConfig::default(),
+    };
+    if let Some(minutes) = args.max_minutes {
+        if !(minutes.is_finite() && minutes > 0.0) {
+            return Err(bad_input(anyhow::anyhow!(
+                "--max-minutes: found {minutes}, expected a positive number"
+            )));
+        }
+        config.max_time_s = minutes * 60.0;
+    }
+    Ok(config)
+}
+
+/// The file a build writes while the robot drives.
+fn partial_path(out: &Path) -> PathBuf {
+    let mut name = out.as_os_str().to_owned();
+    name.push(".partial");
+    PathBuf::from(name)
+}
+
+fn file_len(path: &Path) -> CmdResult<u64> {
+    Ok(std::fs::metadata(path)?.len())
+}
+
+fn build(args: BtmBuildArgs) -> CmdResult {
+    let mut scene = scene_source::load(&args.scene, args.scene_seed, &args.image)?;
+    if let Some((x, y, theta)) = args.start {
+        scene.start_poses.insert(0, Pose2::new(x, y, theta));
+    }
+    let robot = scene_source::load_robot(&args.robot)?;
+    let config = build_config(&args)?;
+    let partial = partial_path(&args.out);
+    if partial.exists() {
+        std::fs::remove_file(&partial)?;
+    }
+    let store = BtmStore::create(&partial).input()?;
+    let scene = Arc::new(scene);
+    let bar = progress::bar(config.max_time_s.ceil() as u64, "simulated s", args.json);
+    let built = build_btm_observed(
+        scene.clone(),
+        robot.clone(),
+        &config,
+        args.seed,
+        Some(&store),
+        &mut |t| bar.set_position(t as u64),
+    );
+    bar.finish_and_clear();
+    drop(store);
+    let outcome = match built {
+        Ok(o) => o,
+        Err(e) => {
+            let _ = std::fs::remove_file(&partial);
+            return Err(bad_input(e));
+        }
+    };
+    std::fs::rename(&partial, &args.out)?;
+    if let Some(png) = &args.png {
+        if png
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+        {
+            usar_world::write_atomic(png, render::to_svg(&outcome.btm).as_bytes())?;
+        } else {
+            let trace: Vec<Point2> = outcome
+                .trajectory
+                .iter()
+                .map(|s| s.truth.position())
+                .collect();
+            render::draw_traced(&outcome.btm, Some(&scene), &trace)
+                .save_png(png)
+                .input()?;
+        }
+    }
+    if let Some(path) = &args.trace {
+        let mut csv = String::from(
+            "time_s,est_x_m,est_y_m,est_theta_rad,true_x_m,true_y_m,true_theta_rad,mode\n",
+        );
+        for t in &outcome.trajectory {
+            csv += &format!(
+                "{:.2},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{}\n",
+                t.time_s,
+                t.estimated.x,
+                t.estimated.y,
+                t.estimated.theta,
+                t.truth.x,
+                t.truth.y,
+                t.truth.theta,
+                t.mode.as_str()
+            );
+        }
+        usar_world::write_atomic(path, csv.as_bytes())?;
+    }
+    // The occupancy grid of the same floor: one byte per cell (a ROS map_server PGM's raster).
+    let grid_bytes = scene.geometry().len() as u64;
+    let sqlite_bytes = file_len(&args.out)?;
+    let json_bytes = serde_json::to_string(&exchange::to_json_value(&outcome.btm))?.len() as u64;
+    let binary_bytes = usar_btm::wire::encode(&outcome.btm).len() as u64;
+    let sizes = json!({
+        "btm_binary": binary_bytes,
+        "btm_json": json_bytes,
+        "btm_sqlite": sqlite_bytes,
+        "occupancy_grid": grid_bytes,
+        "grid_over_binary": grid_bytes as f64 / binary_bytes as f64,
+        "grid_over_json": grid_bytes as f64 / json_bytes as f64,
+        "grid_over_sqlite": grid_bytes as f64 / sqlite_bytes as f64,
+    });
+    if args.json {
+        let mut v = describe(&outcome.btm);
+        let extra = json!({
+            "scene": scene.name,
+            "robot": robot.name,
+            "seed": args.seed,
+            "out": args.out,
+            "stop": outcome.stop,
+            "time_s": outcome.time_s,
+            "distance_m": outcome.distance_m,
+            "collisions": outcome.collisions,
+            "bytes": sizes,
+        });
+        for (k, val) in extra.as_object().expect("object") {
+            v[k] = val.clone();
+        }
+        return print_json(&v);
+    }
+    println!(
+        "{} on {}: {} nodes {:?}, {} links searched, {} un-searched; {:?} after {:.0} s, {:.0} m driven, {} collisions → {}; {} bytes as .btmb, {} as JSON, {} as SQLite; the occupancy grid {} bytes (×{:.0} the .btmb)",
+        robot.name,
+        scene.name,
+        outcome.btm.nodes.len(),
+        outcome.nodes_by_type,
+        outcome.searched_links,
+        outcome.unsearched_links,
+        outcome.stop,
+        outcome.time_s,
+        outcome.distance_m,
+        outcome.collisions,
+        args.out.display(),
+        binary_bytes,
+        json_bytes,
+        sqlite_bytes,
+        grid_bytes,
+        grid_bytes as f64 / binary_bytes as f64,
+    );
+    Ok(())
 }
 
 fn show(args: BtmShowArgs) -> CmdResult {

@@ -3,9 +3,11 @@
 
 mod crossing;
 mod free_space_walk;
+mod stall;
 
 use self::crossing::{Crossing, RECENT_FLOOR_M};
 use self::free_space_walk::FreeSpaceWalk;
+use self::stall::{Remedy, StallWatch, Target};
 use super::divergence::{divergence_subtype, divergence_triangles, open_directions};
 use super::free_space::{ExitTracker, follow_right_wall, is_free_space};
 use super::links::{LinkMeasures, LinkRecorder, LinkSample, MapWriter};
@@ -16,8 +18,8 @@ use super::obstacle::{
 use super::planner::{open_links, route_to_unsearched};
 use super::scan::{ScanView, SideClearance};
 use super::{
-    BuildConfig, BuildError, BuildOutcome, IMPASSABLE_FOR, StopReason, TrajectorySample,
-    count_nodes,
+    BLOCKED_FOR, BuildConfig, BuildError, BuildOutcome, IMPASSABLE_FOR, StopReason,
+    TrajectorySample, count_nodes,
 };
 use crate::locomotion::{
     Gains, ModeInputs, RunMode, central_run, dead_end_turn, select_run_mode, side_distance,
@@ -47,6 +49,10 @@ const BACKOFF_SPEED_MPS: f64 = 0.2;
 const STUCK_STEPS: u32 = 15;
 const RECOVERY_STEPS: u32 = 5;
 /// A dead end is confirmed this much inside the tilted laser's reach, metres.
+/// [`Explorer::safe`]: the turn of a robot lining up with a passage, and how far off its
+/// axis the wall that stopped it must be for that.
+const MIN_ALIGN_TURN_RADPS: f64 = 0.3;
+const ALIGN_OFF_AXIS_M: f64 = 0.05;
 const DEAD_END_MARGIN_M: f64 = 0.1;
 /// Time an approach may take before the robot settles for where it got, seconds.
 const APPROACH_PATIENCE_S: f64 = 20.0;
@@ -122,7 +128,9 @@ pub(super) struct Explorer<'a> {
     node: u32,
     mode: RunMode,
     contact_steps: u32,
-    recovery_steps: u32,
+    /// Commands played before the next decision (recovery after contact, stall escapes).
+    manoeuvre: std::collections::VecDeque<Velocity>,
+    stall: StallWatch,
     /// Circumcentres that turned out to be plain passage.
     ignored: Vec<Point2>,
     /// Tilted-laser returns on the track over the last stretch driven (distance driven,
@@ -181,21 +189,33 @@ impl<'a> Explorer<'a> {
             node: 0,
             mode: RunMode::CentralRun,
             contact_steps: 0,
-            recovery_steps: 0,
+            manoeuvre: std::collections::VecDeque::new(),
+            stall: StallWatch::new(start, 0.0),
             ignored: Vec::new(),
             recent_floor: std::collections::VecDeque::new(),
         })
     }
 
-    pub(super) fn run(&mut self) -> Result<StopReason, BuildError> {
+    /// Explores until no un-searched link is left or time runs out; `on_progress` gets the
+    /// simulated time once per simulated second.
+    pub(super) fn run(
+        &mut self,
+        on_progress: &mut dyn FnMut(f64),
+    ) -> Result<StopReason, BuildError> {
         self.sense();
         self.start()?;
+        let mut reported_s = 0.0;
         loop {
             if matches!(self.state, State::Done) {
                 return Ok(StopReason::Explored);
             }
-            if self.sim.time_s() >= self.cfg.max_time_s {
+            let now = self.sim.time_s();
+            if now >= self.cfg.max_time_s {
                 return Ok(StopReason::TimeLimit);
+            }
+            if now >= reported_s + 1.0 {
+                reported_s = now.floor();
+                on_progress(now);
             }
             let command = self.decide()?;
             self.sim.step(&[command]);
@@ -321,7 +341,7 @@ impl<'a> Explorer<'a> {
             .map
             .add_node(here, kind::TERMINAL, Some(subtype::START), |_| {})?;
         self.node = start;
-        let width = self.spec.width_m;
+        let width = self.passage_width_m();
         let cfg = self.cfg;
         let triangles = divergence_triangles(
             &self.view.points,
@@ -432,6 +452,32 @@ impl<'a> Explorer<'a> {
         Ok(())
     }
 
+    /// After repeated stalls: the link being explored, or every un-searched link of the node
+    /// the robot could not drive back to, is marked [`BLOCKED_FOR`] this robot (it stays
+    /// un-searched) and exploration goes on from the last node.
+    fn give_up(&mut self, target: Target) -> Result<(), BuildError> {
+        let blocked: Vec<u32> = match target {
+            Target::Link(link) => vec![link],
+            Target::Node(node) => open_links(&self.map.btm, node).map(|l| l.id).collect(),
+            Target::Backoff => Vec::new(),
+        };
+        let name = serde_json::Value::from(self.spec.name.clone());
+        for link in blocked {
+            self.map.set_link_extra(link, BLOCKED_FOR, name.clone())?;
+        }
+        // Back the way it came: along what it drove of the link it gave up, then on.
+        let mut back: Vec<Point2> = match &self.state {
+            State::Explore(ex) => ex.rec.samples.iter().rev().map(|s| s.position).collect(),
+            _ => Vec::new(),
+        };
+        self.plan_return(self.node)?;
+        if let State::Return(route) = &mut self.state {
+            back.append(&mut route.waypoints);
+            route.waypoints = back;
+        }
+        Ok(())
+    }
+
     fn finish(&mut self) -> Result<(), BuildError> {
         let here = self.pose().position();
         let from = self.node_position(self.node);
@@ -454,16 +500,37 @@ impl<'a> Explorer<'a> {
     // ----- the control step ----------------------------------------------------------------
 
     fn decide(&mut self) -> Result<Velocity, BuildError> {
-        if self.recovery_steps > 0 {
-            self.recovery_steps -= 1;
-            return Ok(Velocity {
-                linear_mps: -BACKOFF_SPEED_MPS,
-                angular_radps: 0.0,
-            });
+        if let Some(v) = self.manoeuvre.pop_front() {
+            return Ok(v);
         }
         if self.contact_steps >= STUCK_STEPS && !self.crossing() {
             self.contact_steps = 0;
-            self.recovery_steps = RECOVERY_STEPS;
+            let back = Velocity {
+                linear_mps: -BACKOFF_SPEED_MPS,
+                angular_radps: 0.0,
+            };
+            self.manoeuvre.extend([back; RECOVERY_STEPS as usize]);
+            return Ok(self.manoeuvre.pop_front().unwrap_or_default());
+        }
+        let target = match &self.state {
+            State::Explore(ex) => Some(Target::Link(ex.link)),
+            State::Return(route) => Some(Target::Node(route.goal)),
+            State::Backoff { .. } => Some(Target::Backoff),
+            State::Done => None,
+        };
+        match self
+            .stall
+            .check(self.pose(), self.sim.time_s(), target, self.cfg.dt_s)
+        {
+            Some(Remedy::Escape(commands)) => {
+                self.manoeuvre.extend(commands);
+                return Ok(self.manoeuvre.pop_front().unwrap_or_default());
+            }
+            Some(Remedy::GiveUp(target)) => {
+                self.give_up(target)?;
+                return Ok(Velocity::default());
+            }
+            None => {}
         }
         let state = std::mem::replace(&mut self.state, State::Done);
         let command = match state {
@@ -487,14 +554,24 @@ impl<'a> Explorer<'a> {
     }
 
     /// Stops forward motion just short of a wall ahead (not on obstacles, whose rising floor
-    /// the horizontal laser sees as a wall).
+    /// the horizontal laser sees as a wall). A robot stopped by a wall to one side of its axis
+    /// (it entered a narrow passage at an angle) and not told to turn turns away from it, so
+    /// that it lines up with the passage instead of standing still.
     fn safe(&self, mut v: Velocity) -> Velocity {
-        if v.linear_mps > 0.0
-            && !self.crossing()
-            && self.inclination_rad < self.cfg.level_attitude_rad
-            && self.view.front_clearance(self.spec.width_m / 2.0) < self.spec.length_m / 2.0 + 0.05
+        if v.linear_mps <= 0.0
+            || self.crossing()
+            || self.inclination_rad >= self.cfg.level_attitude_rad
         {
+            return v;
+        }
+        let Some(p) = self.view.nearest_ahead(self.spec.width_m / 2.0) else {
+            return v;
+        };
+        if p.x < self.spec.length_m / 2.0 + 0.05 {
             v.linear_mps = 0.0;
+            if v.angular_radps.abs() < MIN_ALIGN_TURN_RADPS && p.y.abs() > ALIGN_OFF_AXIS_M {
+                v.angular_radps = -MIN_ALIGN_TURN_RADPS.copysign(p.y);
+            }
         }
         v
     }
@@ -582,6 +659,11 @@ impl<'a> Explorer<'a> {
         }
     }
 
+    /// The narrowest gap taken for a passage: the robot's width plus the configured margin.
+    fn passage_width_m(&self) -> f64 {
+        self.spec.width_m + self.cfg.passage_margin_m
+    }
+
     fn candidate(&self, from: Point2) -> Option<(Point2, f64)> {
         let pose = self.pose();
         let cfg = self.cfg;
@@ -589,7 +671,7 @@ impl<'a> Explorer<'a> {
             &self.view.points,
             cfg.band_near_m,
             cfg.band_far_m,
-            self.spec.width_m,
+            self.passage_width_m(),
             cfg.obtuse_tolerance_rad,
         )
         .into_iter()
@@ -711,7 +793,7 @@ impl<'a> Explorer<'a> {
             &self.world_points(),
             centre,
             radius_m + self.cfg.search_margin_m,
-            self.spec.width_m,
+            self.passage_width_m(),
         );
         divergence_subtype(&dirs, STRAIGHT_TOLERANCE_RAD) == Some(subtype::DEAD_END)
     }
@@ -758,7 +840,7 @@ impl<'a> Explorer<'a> {
         centre: Point2,
         radius_m: f64,
     ) -> Result<bool, BuildError> {
-        let width = self.spec.width_m;
+        let width = self.passage_width_m();
         let world = self.world_points();
         let dirs = open_directions(&world, centre, radius_m + self.cfg.search_margin_m, width);
         let Some(sub) = divergence_subtype(&dirs, STRAIGHT_TOLERANCE_RAD) else {
