@@ -83,7 +83,8 @@ pub struct BtmBuildArgs {
     /// Start pose "x,y" or "x,y,theta" (metres, radians) instead of the scene's first one.
     #[arg(long, value_parser = parse_pose, allow_hyphen_values = true)]
     pub start: Option<(f64, f64, f64)>,
-    /// Build parameters (TOML; any field of the defaults listed in docs/btm-format.md).
+    /// Build parameters (TOML; any of the fields listed in docs/btm-format.md, e.g.
+    /// configs/btm-real-floor.toml for a cluttered real floor).
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Stop after this many simulated minutes even if links are left un-searched.
