@@ -9,6 +9,6 @@ pub mod maxq;
 pub mod schedule;
 pub mod taxi;
 
-pub use self::flat_q::FlatQ;
+pub use self::flat_q::{FlatQ, SparseFlatQ};
 pub use self::maxq::{Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind};
 pub use self::schedule::Schedule;

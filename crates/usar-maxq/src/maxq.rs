@@ -55,6 +55,13 @@ pub trait Domain {
     fn step(&mut self, s: &Self::State, action: usize) -> (Self::State, f64);
     /// Whether the episode has ended in `s`.
     fn is_terminal(&self, s: &Self::State) -> bool;
+    /// A choice among the `children` of composite `node` made outside the learner — a human
+    /// operator answering a hand-off (paper 000 §IV-A-5) — or `None` to let the learner choose.
+    /// MAXQ-Q learns from a delegated choice exactly as from its own (it is off-policy), so the
+    /// hierarchy "continues to learn by observing the implemented actions of the operator".
+    fn delegated_choice(&mut self, _node: NodeId, _s: &Self::State) -> Option<usize> {
+        None
+    }
 }
 
 /// The hierarchy over a domain: state abstraction, termination and pseudo-rewards per node.
@@ -67,9 +74,22 @@ pub trait Hierarchy<S> {
     /// Whether composite `node` has terminated in `s` (primitives are never asked). A child
     /// that is terminated in the current state is not eligible.
     fn terminated(&self, node: NodeId, s: &S) -> bool;
+    /// Whether composite `node`, started in `start`, has ended in `now` because of what
+    /// happened since it started (e.g. "the robot entered a new cell"). Unlike
+    /// [`Hierarchy::terminated`] this does not make the node ineligible. Default: never.
+    fn ended_since(&self, _node: NodeId, _start: &S, _now: &S) -> bool {
+        false
+    }
     /// R̃ᵢ(s): the pseudo-reward of composite `node` when it terminates in `s`.
     fn pseudo_reward(&self, _node: NodeId, _s: &S) -> f64 {
         0.0
+    }
+    /// A composite node whose executed children also teach `Some(apprentice)` (a composite
+    /// with the same children, in the same order): the completion function of the apprentice is
+    /// updated with every child the node runs. Paper 000 §IV-A-5: while the operator drives
+    /// (HC), the navigation subtask learns from the operator's actions.
+    fn apprentice(&self, _node: NodeId) -> Option<NodeId> {
+        None
     }
 }
 
@@ -140,6 +160,9 @@ struct Run<'a, D: Domain> {
     domain: &'a mut D,
     budget: u64,
     episode: Episode,
+    /// States in which primitives were executed, in order: a subtask's visited states are the
+    /// tail it appended (no allocation per step).
+    visited: Vec<D::State>,
 }
 
 impl MaxqQ {
@@ -233,15 +256,27 @@ impl MaxqQ {
             domain,
             budget: self.params.max_steps_per_episode,
             episode: Episode::default(),
+            visited: Vec::new(),
         };
         let root = h.root();
-        let (_, end) = self.maxq_q(h, &mut run, root, s0, rng);
+        let end = self.maxq_q(h, &mut run, root, s0, rng);
         run.episode.finished = run.domain.is_terminal(&end);
         run.episode
     }
 
-    /// MAXQ-Q(i, s) (Dietterich 2000, Table 4): runs subtask i from s, learning; returns the
-    /// states visited (in order) and the state it ended in.
+    /// Whether subtask `i`, started in `start`, is over in `s`.
+    fn over<S, D: Domain<State = S>>(
+        h: &impl Hierarchy<S>,
+        run: &Run<'_, D>,
+        i: NodeId,
+        start: &S,
+        s: &S,
+    ) -> bool {
+        h.terminated(i, s) || h.ended_since(i, start, s) || run.domain.is_terminal(s)
+    }
+
+    /// MAXQ-Q(i, s) (Dietterich 2000, Table 4): runs subtask i from s, learning; appends the
+    /// states visited to `run.visited` and returns the state it ended in.
     fn maxq_q<S: Clone, D: Domain<State = S>>(
         &mut self,
         h: &impl Hierarchy<S>,
@@ -249,7 +284,7 @@ impl MaxqQ {
         i: NodeId,
         s: S,
         rng: &mut impl Rng,
-    ) -> (Vec<S>, S) {
+    ) -> S {
         if let NodeKind::Primitive { action } = self.nodes[i].kind {
             let (next, r) = run.domain.step(&s, action);
             let alpha = self.params.alpha.at(self.steps);
@@ -259,48 +294,72 @@ impl MaxqQ {
             run.budget -= 1;
             run.episode.reward += r;
             run.episode.steps += 1;
-            return (vec![s], next);
+            run.visited.push(s);
+            return next;
         }
         let n_children = self.children(i).len();
-        let mut seq: Vec<S> = Vec::new();
+        let start = s.clone();
         let mut s = s;
-        while !h.terminated(i, &s) && !run.domain.is_terminal(&s) && run.budget > 0 {
-            let Some(k) = self.choose(h, i, &s, rng) else {
-                break;
+        while !Self::over(h, run, i, &start, &s) && run.budget > 0 {
+            let k = match run.domain.delegated_choice(i, &s) {
+                Some(k) if k < n_children => k,
+                _ => match self.choose(h, i, &s, rng) {
+                    Some(k) => k,
+                    None => break,
+                },
             };
             let child = self.children(i)[k];
-            let (child_seq, next) = self.maxq_q(h, run, child, s, rng);
-            let alpha = self.params.alpha.at(self.steps);
-            let gamma = self.params.gamma;
-            // The best continuation from s′ (none if i ended there: its completion is 0).
-            let ended = h.terminated(i, &next) || run.domain.is_terminal(&next);
-            let (target, target_tilde) = if ended {
-                (0.0, h.pseudo_reward(i, &next))
-            } else {
-                match self.best_child(h, i, &next, true) {
-                    Some((best, _)) => {
-                        let a_star = self.children(i)[best];
-                        let v = self.value(h, a_star, &next);
-                        let abs_next = h.abstraction(i, &next) * n_children + best;
-                        (
-                            self.c[i].values[abs_next] + v,
-                            self.c_tilde[i].values[abs_next] + v,
-                        )
-                    }
-                    None => (0.0, 0.0),
-                }
-            };
-            let mut discount = gamma;
-            for visited in child_seq.iter().rev() {
-                let idx = h.abstraction(i, visited) * n_children + k;
-                self.c_tilde[i].update(idx, alpha, discount * target_tilde);
-                self.c[i].update(idx, alpha, discount * target);
-                discount *= gamma;
+            let child_start = run.visited.len();
+            let next = self.maxq_q(h, run, child, s, rng);
+            let ended = Self::over(h, run, i, &start, &next);
+            self.learn_completion(h, i, k, &run.visited[child_start..], &next, ended);
+            if let Some(j) = h.apprentice(i) {
+                let ended = h.terminated(j, &next) || run.domain.is_terminal(&next);
+                self.learn_completion(h, j, k, &run.visited[child_start..], &next, ended);
             }
-            seq.extend(child_seq);
             s = next;
         }
-        (seq, s)
+        s
+    }
+
+    /// Eq. 3 for child k of `i` that ran through `visited` and stopped in `next`: C and C̃ of
+    /// every visited state move toward γᴺ times the best continuation from `next` (none when
+    /// `i` ended there).
+    fn learn_completion<S>(
+        &mut self,
+        h: &impl Hierarchy<S>,
+        i: NodeId,
+        k: usize,
+        visited: &[S],
+        next: &S,
+        ended: bool,
+    ) {
+        let n_children = self.children(i).len();
+        let alpha = self.params.alpha.at(self.steps);
+        let gamma = self.params.gamma;
+        let (target, target_tilde) = if ended {
+            (0.0, h.pseudo_reward(i, next))
+        } else {
+            match self.best_child(h, i, next, true) {
+                Some((best, _)) => {
+                    let a_star = self.children(i)[best];
+                    let v = self.value(h, a_star, next);
+                    let abs_next = h.abstraction(i, next) * n_children + best;
+                    (
+                        self.c[i].values[abs_next] + v,
+                        self.c_tilde[i].values[abs_next] + v,
+                    )
+                }
+                None => (0.0, 0.0),
+            }
+        };
+        let mut discount = gamma;
+        for visited in visited.iter().rev() {
+            let idx = h.abstraction(i, visited) * n_children + k;
+            self.c_tilde[i].update(idx, alpha, discount * target_tilde);
+            self.c[i].update(idx, alpha, discount * target);
+            discount *= gamma;
+        }
     }
 
     /// ε-greedy choice among the eligible children of `i` (greedy with respect to C̃).
@@ -313,17 +372,21 @@ impl MaxqQ {
     ) -> Option<usize> {
         let epsilon = self.params.epsilon.at(self.steps);
         if rng.random::<f64>() < epsilon {
-            let eligible: Vec<usize> = self
-                .children(i)
+            let children = self.children(i);
+            let eligible = children
+                .iter()
+                .filter(|&&a| self.eligible(h, a, s))
+                .count();
+            if eligible == 0 {
+                return None;
+            }
+            let pick = rng.random_range(0..eligible);
+            return children
                 .iter()
                 .enumerate()
                 .filter(|&(_, &a)| self.eligible(h, a, s))
-                .map(|(k, _)| k)
-                .collect();
-            if eligible.is_empty() {
-                return None;
-            }
-            return Some(eligible[rng.random_range(0..eligible.len())]);
+                .nth(pick)
+                .map(|(k, _)| k);
         }
         self.best_child(h, i, s, true).map(|(k, _)| k)
     }
@@ -339,6 +402,7 @@ impl MaxqQ {
             domain,
             budget: self.params.max_steps_per_episode,
             episode: Episode::default(),
+            visited: Vec::new(),
         };
         let end = self.execute(h, &mut run, h.root(), s0);
         run.episode.finished = run.domain.is_terminal(&end);
@@ -359,10 +423,16 @@ impl MaxqQ {
             run.episode.steps += 1;
             return next;
         }
+        let n_children = self.children(i).len();
+        let start = s.clone();
         let mut s = s;
-        while !h.terminated(i, &s) && !run.domain.is_terminal(&s) && run.budget > 0 {
-            let Some((k, _)) = self.best_child(h, i, &s, true) else {
-                break;
+        while !Self::over(h, run, i, &start, &s) && run.budget > 0 {
+            let k = match run.domain.delegated_choice(i, &s) {
+                Some(k) if k < n_children => k,
+                _ => match self.best_child(h, i, &s, true) {
+                    Some((k, _)) => k,
+                    None => break,
+                },
             };
             s = self.execute(h, run, self.children(i)[k], s);
         }

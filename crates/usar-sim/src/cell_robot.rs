@@ -55,6 +55,10 @@ pub enum CellOutcome {
     Rotated,
     /// The move was refused: the robot stays where it is.
     Collided,
+    /// The robot tried to climb onto rubble and its tracks slipped: the command did not take
+    /// effect (paper 000 §VII-B: "physically stuck in a cell due to unsteady terrain"). Not a
+    /// collision.
+    Slipped,
 }
 
 /// A robot on the coarse cells. `heading` counts steps of θ counter-clockwise from east.
@@ -120,6 +124,44 @@ impl CellRobot {
                 || dr == 0
                 || (ok(Cell::new(self.cell.col + dc, self.cell.row))
                     && ok(Cell::new(self.cell.col, self.cell.row + dr))))
+    }
+
+    /// The cell a forward or backward move aims at (`None` for a rotation).
+    pub fn move_target(&self, action: CellAction) -> Option<Cell> {
+        let (dc, dr) = self.ahead();
+        let sign = match action {
+            CellAction::Forward => 1,
+            CellAction::Backward => -1,
+            CellAction::RotateLeft | CellAction::RotateRight => return None,
+        };
+        Some(Cell::new(self.cell.col + sign * dc, self.cell.row + sign * dr))
+    }
+
+    /// Applies one primitive action among things the terrain classes do not show: a move into a
+    /// cell for which `occupied` holds (a victim lying there) is a collision, and a move onto
+    /// climbable rubble for which `slips` holds does not take effect ([`CellOutcome::Slipped`]).
+    pub fn apply_with(
+        &mut self,
+        action: CellAction,
+        view: &CellView,
+        occupied: impl Fn(Cell) -> bool,
+        slips: impl FnOnce(Cell) -> bool,
+    ) -> CellOutcome {
+        if let Some(target) = self.move_target(action) {
+            if occupied(target) {
+                self.steps += 1;
+                self.collisions += 1;
+                return CellOutcome::Collided;
+            }
+            if self.can_enter(view, target)
+                && view.terrain_class(target) == usar_world::cellview::CellClass::Climbable
+                && slips(target)
+            {
+                self.steps += 1;
+                return CellOutcome::Slipped;
+            }
+        }
+        self.apply(action, view)
     }
 
     /// Applies one primitive action.
@@ -193,6 +235,37 @@ mod tests {
                 robot.collisions
             );
         }
+    }
+
+    #[test]
+    fn victims_block_and_climbs_may_slip() {
+        let scene = generate_rubble(3, &RubbleParams::default());
+        let view = CellView::from_scene(&scene, &CellViewParams::default());
+        let climbable = (0..view.classes.len())
+            .map(|i| view.geometry.cell_of_index(i))
+            .find(|&c| {
+                view.terrain_class(c) == CellClass::Climbable
+                    && view.is_passable(Cell::new(c.col - 1, c.row), true)
+            })
+            .expect("a climbable cell with a passable west neighbour");
+        let from = Cell::new(climbable.col - 1, climbable.row);
+        let mut r = CellRobot::new(from, 0, RotationStep::Quarter, true);
+        assert_eq!(r.move_target(CellAction::Forward), Some(climbable));
+        assert_eq!(
+            r.apply_with(CellAction::Forward, &view, |_| false, |_| true),
+            CellOutcome::Slipped
+        );
+        assert_eq!((r.cell, r.collisions, r.steps), (from, 0, 1));
+        assert_eq!(
+            r.apply_with(CellAction::Forward, &view, |c| c == climbable, |_| false),
+            CellOutcome::Collided
+        );
+        assert_eq!((r.cell, r.collisions), (from, 1));
+        assert_eq!(
+            r.apply_with(CellAction::Forward, &view, |_| false, |_| false),
+            CellOutcome::Moved
+        );
+        assert_eq!(r.cell, climbable);
     }
 
     #[test]

@@ -1,0 +1,455 @@
+//! Direction-based exploration (paper 000 §V, eq. 7–10, Fig. 5–6, Table II).
+//!
+//! The map around the robot is split into four regions North, East, South, West by the
+//! diagonals through the robot's cell; each region owns the diagonal boundary cells
+//! counter-clockwise from it (North owns the north-west diagonal, West the south-west, South the
+//! south-east, East the north-east). The utility of region j is (eq. 7)
+//!
+//! ```text
+//! u_j = Σ_x ω_xj · λ_xj · δ_xj      over the cells of interest x of region j
+//! ```
+//!
+//! with the terrain coefficient ω (eq. 8), the neighbouring-cells coefficient λ (eq. 9) and the
+//! travel coefficient δ (eq. 10) of [`ExplorationWeights`]; d_x is the Euclidean distance in
+//! cells from the robot's cell to x. The region with the largest utility is the exploration
+//! direction D_E.
+//!
+//! **From D_E to a heading.** The paper hands D_E to the navigation subtask and lets it learn to
+//! move that way through the rubble. Here the navigation subtask is given, besides D_E, the
+//! *first step* of the shortest path (through cells the robot knows it can cross) to the cell
+//! of interest of region D_E it can reach with the largest ω·λ·δ (ties: the nearest by path).
+//! Only cells of interest the robot can reach or face from its known free cells count as
+//! targets; a region without such a target is skipped (its unknown cells lie behind
+//! obstacles). This keeps the direction-based choice of the paper and removes the local minima
+//! of following a compass direction through rubble (the paper's 1 786–2 026 steps per scene).
+
+use crate::cell_map::{CellMap, MapCell};
+use serde::{Deserialize, Serialize};
+
+/// A search direction / region (paper 000 Fig. 5), also a grid heading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Direction {
+    East,
+    North,
+    West,
+    South,
+}
+
+impl Direction {
+    /// Counter-clockwise from east, as the cell robot's quarter headings.
+    pub const ALL: [Direction; 4] = [
+        Direction::East,
+        Direction::North,
+        Direction::West,
+        Direction::South,
+    ];
+
+    /// Index 0..4, counter-clockwise from east (the cell robot's heading).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    pub fn from_index(i: usize) -> Direction {
+        Self::ALL[i % 4]
+    }
+
+    /// (dcol, drow) of one step.
+    pub fn step(self) -> (i32, i32) {
+        match self {
+            Direction::East => (1, 0),
+            Direction::North => (0, 1),
+            Direction::West => (-1, 0),
+            Direction::South => (0, -1),
+        }
+    }
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Direction::East => "east",
+            Direction::North => "north",
+            Direction::West => "west",
+            Direction::South => "south",
+        }
+    }
+}
+
+/// The region of a cell at (dx, dy) cells from the robot (Fig. 5); `None` for the robot's cell.
+/// Each region owns the diagonal counter-clockwise from it.
+#[inline]
+pub fn region_of(dx: i32, dy: i32) -> Option<Direction> {
+    if dx == 0 && dy == 0 {
+        None
+    } else if dy > 0 && -dy <= dx && dx < dy {
+        Some(Direction::North)
+    } else if dx > 0 && -dx < dy && dy <= dx {
+        Some(Direction::East)
+    } else if dy < 0 && dy < dx && dx <= -dy {
+        Some(Direction::South)
+    } else {
+        Some(Direction::West)
+    }
+}
+
+/// The coefficients of eq. 8–10 with their weights (Table II).
+///
+/// `terrain` = w_l·(l₁, l₂, l₃) for an open unvisited cell, an unvisited climbable obstacle and
+/// an unknown obstacle (1 elsewhere); `neighbour` = w_p·(p₁, p₂, p₃, p₄) for a neighbouring
+/// cell that is unknown, open unvisited, unvisited climbable, an unknown obstacle (0 elsewhere;
+/// λ = 1 when the sum is 0); `travel` = w_q·(q₁…q₄) for d_x ≤ d₁, ≤ d₂, ≤ d₃, ≤ d₄ (1 beyond);
+/// `distance_cells` = (d₁…d₄), cells.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExplorationWeights {
+    pub name: String,
+    pub terrain: [f64; 3],
+    pub neighbour: [f64; 4],
+    pub travel: [f64; 4],
+    pub distance_cells: [f64; 4],
+}
+
+/// Base values of Table II with all weights 1: l = (10, 5, 2), p = (3, 2, 1.5, 1),
+/// q = (10, 5, 2, 1.5); d = (3, 6, 9, 12) cells in simulation (§VI-B).
+const L: [f64; 3] = [10.0, 5.0, 2.0];
+const P: [f64; 4] = [3.0, 2.0, 1.5, 1.0];
+const Q: [f64; 4] = [10.0, 5.0, 2.0, 1.5];
+/// Distance thresholds of the simulations (§VI-B).
+pub const SIMULATION_DISTANCES: [f64; 4] = [3.0, 6.0, 9.0, 12.0];
+/// Distance thresholds of the physical experiments (§VII-A).
+pub const EXPERIMENT_DISTANCES: [f64; 4] = [1.5, 3.0, 6.0, 12.0];
+/// The higher weighting of §VI-B ("w_i = 20").
+pub const HIGH_WEIGHT: f64 = 20.0;
+
+impl ExplorationWeights {
+    /// Coefficients with weights (w_l, w_p, w_q).
+    pub fn weighted(name: &str, w_l: f64, w_p: f64, w_q: f64) -> Self {
+        Self {
+            name: name.into(),
+            terrain: L.map(|l| w_l * l),
+            neighbour: P.map(|p| w_p * p),
+            travel: Q.map(|q| w_q * q),
+            distance_cells: SIMULATION_DISTANCES,
+        }
+    }
+
+    /// Table II, simulations 1–4: terrain-, neighbour-, travel-weighted and equal weights.
+    pub fn table_ii() -> [ExplorationWeights; 4] {
+        [
+            Self::weighted("terrain", HIGH_WEIGHT, 1.0, 1.0),
+            Self::weighted("neighbour", 1.0, HIGH_WEIGHT, 1.0),
+            Self::weighted("travel", 1.0, 1.0, HIGH_WEIGHT),
+            Self::weighted("equal", 1.0, 1.0, 1.0),
+        ]
+    }
+
+    /// A Table II case by name (`terrain`, `neighbour`, `travel`, `equal`).
+    pub fn named(name: &str) -> Option<ExplorationWeights> {
+        Self::table_ii().into_iter().find(|w| w.name == name)
+    }
+
+    /// ω (eq. 8).
+    #[inline]
+    pub fn terrain_coefficient(&self, cell: MapCell) -> f64 {
+        match cell {
+            MapCell::OpenUnvisited => self.terrain[0],
+            MapCell::ClimbableUnvisited => self.terrain[1],
+            MapCell::UnknownObstacle => self.terrain[2],
+            _ => 1.0,
+        }
+    }
+
+    /// v_x^k of eq. 9.
+    #[inline]
+    pub fn neighbour_value(&self, cell: MapCell) -> f64 {
+        match cell {
+            MapCell::Unknown => self.neighbour[0],
+            MapCell::OpenUnvisited => self.neighbour[1],
+            MapCell::ClimbableUnvisited => self.neighbour[2],
+            MapCell::UnknownObstacle => self.neighbour[3],
+            _ => 0.0,
+        }
+    }
+
+    /// δ (eq. 10) at squared distance `d2` (cells²).
+    #[inline]
+    pub fn travel_coefficient(&self, d2: f64) -> f64 {
+        let d = &self.distance_cells;
+        if d2 <= d[0] * d[0] {
+            self.travel[0]
+        } else if d2 <= d[1] * d[1] {
+            self.travel[1]
+        } else if d2 <= d[2] * d[2] {
+            self.travel[2]
+        } else if d2 <= d[3] * d[3] {
+            self.travel[3]
+        } else {
+            1.0
+        }
+    }
+}
+
+/// What the exploration tells the navigation subtask.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Guidance {
+    /// D_E: the region with the largest utility among those with a reachable target.
+    pub direction: Option<Direction>,
+    /// The cell of interest chosen in region D_E (or the victim to approach).
+    pub target: Option<(i32, i32)>,
+    /// The first step toward the target: a move to a neighbour, or the turn to face the target
+    /// when it is adjacent. `None` when there is nothing left to explore or reach.
+    pub heading: Option<Direction>,
+    /// Utilities u_j of eq. 7, by [`Direction::index`].
+    pub utility: [f64; 4],
+}
+
+/// The exploration state over a robot's map: ω·λ per cell kept up to date as the map changes,
+/// and the buffers of the path search, so that choosing a direction allocates nothing.
+#[derive(Clone, Debug)]
+pub struct Explorer {
+    pub weights: ExplorationWeights,
+    cols: i32,
+    rows: i32,
+    /// ω_x·λ_x of every cell of interest, 0 for the other cells.
+    omega_lambda: Vec<f64>,
+    /// Path distance (steps) from the robot through known passable cells; u32::MAX unreached.
+    distance: Vec<u32>,
+    /// First step from the robot toward each reached cell (Direction index).
+    first_step: Vec<u8>,
+    queue: Vec<u32>,
+}
+
+impl Explorer {
+    pub fn new(weights: ExplorationWeights, map: &CellMap) -> Self {
+        let n = map.cells.len();
+        let mut e = Self {
+            weights,
+            cols: map.cols,
+            rows: map.rows,
+            omega_lambda: vec![0.0; n],
+            distance: vec![u32::MAX; n],
+            first_step: vec![0; n],
+            queue: Vec::with_capacity(n),
+        };
+        for i in 0..n {
+            e.refresh(map, i);
+        }
+        e
+    }
+
+    /// ω·λ of cell `i` from the map (eq. 8, 9).
+    fn refresh(&mut self, map: &CellMap, i: usize) {
+        let cell = map.cells[i];
+        if !cell.is_of_interest() {
+            self.omega_lambda[i] = 0.0;
+            return;
+        }
+        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+        let mut sum = 0.0;
+        for &(dc, dr) in &usar_world::NEIGHBORS8 {
+            if let Some(k) = map.index(col + dc, row + dr) {
+                sum += self.weights.neighbour_value(map.cells[k]);
+            }
+        }
+        let lambda = if sum != 0.0 { sum } else { 1.0 };
+        self.omega_lambda[i] = self.weights.terrain_coefficient(cell) * lambda;
+    }
+
+    /// Call after cell (col, row) of `map` changed: updates it and its eight neighbours.
+    pub fn cell_changed(&mut self, map: &CellMap, col: i32, row: i32) {
+        for dr in -1..=1 {
+            for dc in -1..=1 {
+                if let Some(i) = map.index(col + dc, row + dr) {
+                    self.refresh(map, i);
+                }
+            }
+        }
+    }
+
+    /// ω·λ of a cell (0 when it is not of interest).
+    pub fn omega_lambda(&self, col: i32, row: i32) -> f64 {
+        let i = (row * self.cols + col) as usize;
+        self.omega_lambda[i]
+    }
+
+    /// Eq. 7 for the robot at (rc, rr): the four utilities, by [`Direction::index`].
+    pub fn utilities(&self, rc: i32, rr: i32) -> [f64; 4] {
+        let mut u = [0.0; 4];
+        for row in 0..self.rows {
+            let dy = row - rr;
+            let base = (row * self.cols) as usize;
+            for col in 0..self.cols {
+                let ol = self.omega_lambda[base + col as usize];
+                if ol == 0.0 {
+                    continue;
+                }
+                let dx = col - rc;
+                let Some(region) = region_of(dx, dy) else {
+                    continue;
+                };
+                let d2 = f64::from(dx * dx + dy * dy);
+                u[region.index()] += ol * self.weights.travel_coefficient(d2);
+            }
+        }
+        u
+    }
+
+    /// Breadth-first path distances from (rc, rr) through known passable cells, with the first
+    /// step of a shortest path to each reached cell.
+    fn search(&mut self, map: &CellMap, rc: i32, rr: i32) {
+        self.distance.fill(u32::MAX);
+        self.queue.clear();
+        let Some(start) = map.index(rc, rr) else {
+            return;
+        };
+        self.distance[start] = 0;
+        self.queue.push(start as u32);
+        let mut head = 0;
+        while head < self.queue.len() {
+            let i = self.queue[head] as usize;
+            head += 1;
+            let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+            let d = self.distance[i];
+            for dir in Direction::ALL {
+                let (dc, dr) = dir.step();
+                let Some(k) = map.index(col + dc, row + dr) else {
+                    continue;
+                };
+                if self.distance[k] != u32::MAX || !map.cells[k].is_known_passable() {
+                    continue;
+                }
+                self.distance[k] = d + 1;
+                self.first_step[k] = if i == start {
+                    dir.index() as u8
+                } else {
+                    self.first_step[i]
+                };
+                self.queue.push(k as u32);
+            }
+        }
+    }
+
+    /// The reached neighbour from which the robot can face unclassified cell `k`, and the
+    /// direction it then faces: the nearest one by path.
+    fn stand_for(&self, map: &CellMap, col: i32, row: i32) -> Option<(usize, Direction)> {
+        let mut best: Option<(u32, usize, Direction)> = None;
+        for dir in Direction::ALL {
+            let (dc, dr) = dir.step();
+            // The stand cell lies opposite to the direction it faces.
+            let Some(s) = map.index(col - dc, row - dr) else {
+                continue;
+            };
+            let d = self.distance[s];
+            if d != u32::MAX && best.is_none_or(|(bd, _, _)| d < bd) {
+                best = Some((d, s, dir));
+            }
+        }
+        best.map(|(_, s, dir)| (s, dir))
+    }
+
+    /// The step from the robot toward reached cell `s` (`None` when the robot is in it).
+    fn step_toward(&self, s: usize, robot: usize) -> Option<Direction> {
+        (s != robot).then(|| Direction::from_index(usize::from(self.first_step[s])))
+    }
+
+    /// Path distance to cell of interest `i` (through its stand cell when unclassified), or
+    /// `None` when the robot can neither reach nor face it. Uses the last search.
+    fn target_distance(&self, map: &CellMap, i: usize) -> Option<u32> {
+        let cell = map.cells[i];
+        if !cell.is_of_interest() {
+            return None;
+        }
+        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+        if cell.is_unclassified() {
+            self.stand_for(map, col, row).map(|(s, _)| self.distance[s] + 1)
+        } else {
+            (self.distance[i] != u32::MAX).then_some(self.distance[i])
+        }
+    }
+
+    /// The heading toward target cell `i` (reachable, see [`Explorer::target_distance`]).
+    fn heading_to(&self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
+        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+        if map.cells[i].is_unclassified() {
+            let (stand, face) = self.stand_for(map, col, row)?;
+            self.step_toward(stand, robot).or(Some(face))
+        } else {
+            self.step_toward(i, robot)
+        }
+    }
+
+    /// D_E and the heading toward its best reachable cell of interest, for the robot at
+    /// (rc, rr). Targets are unvisited passable cells it can reach and unclassified cells it
+    /// can face from a reached cell. The direction is updated "as necessary" (§V): a target
+    /// `kept` from the previous call is followed until it is explored or cannot be reached, so
+    /// that the regions, which move with the robot, do not make it turn back and forth.
+    pub fn guide(&mut self, map: &CellMap, rc: i32, rr: i32, kept: Option<Guidance>) -> Guidance {
+        self.search(map, rc, rr);
+        let robot = map.index(rc, rr).unwrap_or(0);
+        if let Some(g) = kept
+            && let Some((tc, tr)) = g.target
+            && let Some(t) = map.index(tc, tr)
+            && t != robot
+            && self.target_distance(map, t).is_some()
+        {
+            return Guidance {
+                heading: self.heading_to(map, t, robot),
+                ..g
+            };
+        }
+        let utility = self.utilities(rc, rr);
+        // Best target per region: (ω·λ·δ, −path distance), then the lowest index.
+        let mut best: [Option<(f64, u32, usize)>; 4] = [None; 4];
+        for (i, &cell) in map.cells.iter().enumerate() {
+            if !cell.is_of_interest() || i == robot {
+                continue;
+            }
+            let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+            let Some(d) = self.target_distance(map, i) else {
+                continue;
+            };
+            let (dx, dy) = (col - rc, row - rr);
+            let Some(region) = region_of(dx, dy) else {
+                continue;
+            };
+            let value = self.omega_lambda[i]
+                * self
+                    .weights
+                    .travel_coefficient(f64::from(dx * dx + dy * dy));
+            let slot = &mut best[region.index()];
+            if slot.is_none_or(|(v, bd, _)| value > v || (value == v && d < bd)) {
+                *slot = Some((value, d, i));
+            }
+        }
+        let chosen = Direction::ALL
+            .into_iter()
+            .filter(|dir| best[dir.index()].is_some())
+            .fold(None::<Direction>, |acc, dir| match acc {
+                Some(a) if utility[a.index()] >= utility[dir.index()] => Some(a),
+                _ => Some(dir),
+            });
+        let Some(direction) = chosen else {
+            return Guidance {
+                utility,
+                ..Guidance::default()
+            };
+        };
+        let (_, _, target) = best[direction.index()].expect("chosen region has a target");
+        let (col, row) = (target as i32 % self.cols, target as i32 / self.cols);
+        let heading = self.heading_to(map, target, robot);
+        Guidance {
+            direction: Some(direction),
+            target: Some((col, row)),
+            heading,
+            utility,
+        }
+    }
+
+    /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
+    /// that path's length; `None` when no such cell is reachable. Uses the distances of the
+    /// last [`Explorer::guide`] (call it first).
+    pub fn toward_victim(&self, map: &CellMap, rc: i32, rr: i32, vc: i32, vr: i32) -> Option<(Direction, u32)> {
+        let robot = map.index(rc, rr)?;
+        let (stand, face) = self.stand_for(map, vc, vr)?;
+        let d = self.distance[stand];
+        Some((self.step_toward(stand, robot).unwrap_or(face), d))
+    }
+}

@@ -1,0 +1,207 @@
+//! Training of the hierarchy over random rubble scenes (paper 000 §VI-A): every trial is a new
+//! scene of the training style; MAXQ-Q and flat Q-learning learn on the same scenes with the
+//! same rates, initial values, state variables and primitive actions. The curves are the
+//! cumulative reward per trial (Fig. 7a) and the steps per trial (Fig. 7b).
+
+use crate::domain::{DomainConfig, RescueDomain, RescueScene};
+use crate::exploration::ExplorationWeights;
+use crate::hierarchy::{RescueHierarchy, action};
+use crate::operator::{OperatorProfile, SimulatedOperator};
+use crate::state::RescueState;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use usar_maxq::{Domain, Hierarchy, LearningParams, MaxqQ, Schedule, SparseFlatQ};
+use usar_world::generate::{RubbleParams, RubbleStyle, generate_rubble};
+
+/// How training runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainConfig {
+    pub seed: u64,
+    /// Trials, one random scene each (paper: 1 800).
+    pub trials: u32,
+    pub params: LearningParams,
+    /// Exploration weights used while training.
+    pub weights: ExplorationWeights,
+    pub domain: DomainConfig,
+    /// The operator answering hand-offs while training.
+    pub operator: OperatorProfile,
+    /// Train the flat Q-learner too.
+    pub flat: bool,
+}
+
+impl Default for TrainConfig {
+    /// The paper's schedules (ε and α start at 1, −0.01 every 100 primitive steps) with floors
+    /// ε ≥ 0.1, α ≥ 0.1 (the paper gives none; at 0 learning would stop after 10 000 steps);
+    /// γ = 0.9; a trial is cut at 3 000 primitive steps; equal exploration weights.
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            trials: 1800,
+            params: LearningParams {
+                gamma: 0.9,
+                alpha: Schedule::paper_000(0.1),
+                epsilon: Schedule::paper_000(0.1),
+                max_steps_per_episode: 3000,
+            },
+            weights: ExplorationWeights::named("equal").expect("Table II case"),
+            domain: DomainConfig::default(),
+            operator: OperatorProfile::expert(),
+            flat: true,
+        }
+    }
+}
+
+/// One trial of the learning curves.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrialPoint {
+    pub trial: u32,
+    pub maxq_reward: f64,
+    /// Navigation primitives of the MAXQ trial (Fig. 7b).
+    pub maxq_steps: u64,
+    pub maxq_finished: bool,
+    pub flat_reward: Option<f64>,
+    pub flat_steps: Option<u64>,
+}
+
+/// What training produced.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainReport {
+    pub trials: u32,
+    pub seed: u64,
+    /// Values MAXQ-Q ever wrote (V of primitives and C of subtasks).
+    pub maxq_q_values: usize,
+    /// Values flat Q ever wrote.
+    pub flat_q_values: usize,
+    /// States the flat learner met.
+    pub flat_states: usize,
+    /// Primitive steps learned from.
+    pub maxq_primitive_steps: u64,
+    pub flat_primitive_steps: u64,
+    pub curve: Vec<TrialPoint>,
+}
+
+/// The seed of trial `t` (scene, start, streams).
+pub fn trial_seed(seed: u64, t: u32) -> u64 {
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (u64::from(t) + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)
+}
+
+/// A training scene (the random style of §VI-A) and its start.
+pub fn training_scene(seed: u64, t: u32) -> (RescueScene, (usar_world::Cell, u8)) {
+    let s = trial_seed(seed, t);
+    let scene = RescueScene::new(generate_rubble(s, &RubbleParams::with_style(RubbleStyle::Random)));
+    let mut rng = Pcg64Mcg::seed_from_u64(s ^ 0xA11CE);
+    let starts = scene.scene.start_poses.len().max(1);
+    let k = rng.random_range(0..starts);
+    let start = scene
+        .start(k)
+        .or_else(|| scene.start(0))
+        .unwrap_or((usar_world::Cell::new(0, 0), 0));
+    (scene, start)
+}
+
+/// A fresh learner for the USAR hierarchy.
+pub fn new_learner(params: &LearningParams) -> MaxqQ {
+    MaxqQ::new(RescueHierarchy::new().nodes().to_vec(), params.clone())
+}
+
+/// The flat learner's actions: F, B, rotate left, rotate right, Tag, Exit.
+const FLAT_ACTIONS: [usize; 6] = [
+    action::FORWARD,
+    action::BACKWARD,
+    action::ROTATE_LEFT,
+    action::ROTATE_RIGHT,
+    action::TAG,
+    action::EXIT,
+];
+
+/// The domain as the flat learner sees it: its own action numbering.
+struct FlatDomain<'d, 'a>(&'d mut RescueDomain<'a, SimulatedOperator>);
+
+impl Domain for FlatDomain<'_, '_> {
+    type State = RescueState;
+    fn step(&mut self, s: &RescueState, a: usize) -> (RescueState, f64) {
+        self.0.step(s, FLAT_ACTIONS[a])
+    }
+    fn is_terminal(&self, s: &RescueState) -> bool {
+        s.done()
+    }
+}
+
+/// Trains MAXQ-Q (and flat Q) over `config.trials` scenes; `progress(trials_done)` after each.
+/// Scenes are generated in parallel batches ahead of the learners (each is a pure function of
+/// its seed); learning itself is sequential, so the result is independent of the thread count.
+pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, TrainReport) {
+    let h = RescueHierarchy::new();
+    let mut maxq = new_learner(&config.params);
+    let mut flat = SparseFlatQ::new(FLAT_ACTIONS.len(), config.params.clone());
+    let mut maxq_rng = Pcg64Mcg::seed_from_u64(config.seed ^ 0x3A70_u64);
+    let mut flat_rng = Pcg64Mcg::seed_from_u64(config.seed ^ 0xF1A7);
+    let mut curve = Vec::with_capacity(config.trials as usize);
+    const BATCH: u32 = 32;
+    let mut t0 = 0;
+    while t0 < config.trials {
+        let t1 = (t0 + BATCH).min(config.trials);
+        let scenes: Vec<_> = (t0..t1)
+            .into_par_iter()
+            .map(|t| training_scene(config.seed, t))
+            .collect();
+        for (t, (scene, start)) in (t0..t1).zip(&scenes) {
+            let s = trial_seed(config.seed, t);
+            let operator = SimulatedOperator::new(config.operator.clone(), s ^ 0x0DE);
+            let mut domain = RescueDomain::new(
+                scene,
+                *start,
+                config.weights.clone(),
+                config.domain.clone(),
+                operator,
+                s,
+            );
+            let s0 = domain.state();
+            let e = maxq.learn_episode(&h, &mut domain, s0, &mut maxq_rng);
+            let mut point = TrialPoint {
+                trial: t,
+                maxq_reward: e.reward,
+                maxq_steps: domain.stats.steps,
+                maxq_finished: e.finished,
+                flat_reward: None,
+                flat_steps: None,
+            };
+            if config.flat {
+                let operator = SimulatedOperator::new(config.operator.clone(), s ^ 0x0DE);
+                let mut domain = RescueDomain::new(
+                    scene,
+                    *start,
+                    config.weights.clone(),
+                    config.domain.clone(),
+                    operator,
+                    s,
+                );
+                let s0 = domain.state();
+                let e = flat.learn_episode(
+                    &mut FlatDomain(&mut domain),
+                    RescueState::flat_key,
+                    s0,
+                    &mut flat_rng,
+                );
+                point.flat_reward = Some(e.reward);
+                point.flat_steps = Some(domain.stats.steps);
+            }
+            curve.push(point);
+            progress(t + 1);
+        }
+        t0 = t1;
+    }
+    let report = TrainReport {
+        trials: config.trials,
+        seed: config.seed,
+        maxq_q_values: maxq.stored_values(),
+        flat_q_values: flat.stored_values(),
+        flat_states: flat.states(),
+        maxq_primitive_steps: maxq.steps,
+        flat_primitive_steps: flat.steps,
+        curve,
+    };
+    (maxq, report)
+}

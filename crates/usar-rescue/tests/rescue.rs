@@ -1,0 +1,167 @@
+//! Paper 000's controller: Table I rewards, hierarchy termination, region split, determinism,
+//! policy round trip and corrupt files.
+
+use proptest::prelude::*;
+use usar_maxq::{Hierarchy, NodeKind};
+use usar_rescue::exploration::{Direction, ExplorationWeights, region_of};
+use usar_rescue::hierarchy::{self, RescueHierarchy, action};
+use usar_rescue::operator::{OperatorProfile, SimulatedOperator};
+use usar_rescue::policy::{PolicyFile, TrainingInfo};
+use usar_rescue::training::{TrainConfig, train};
+use usar_rescue::evaluation::{EvalConfig, evaluate};
+use usar_rescue::{DomainConfig, RescueDomain, RescueScene, RescueState, VictimStatus, rewards};
+use usar_world::generate::{RubbleParams, generate_rubble};
+
+#[test]
+fn table_i_rewards_are_the_papers() {
+    assert_eq!(rewards::TASK_COMPLETED, 100.0);
+    assert_eq!((rewards::EXIT_EXPLORED, rewards::EXIT_EARLY), (10.0, -10.0));
+    assert_eq!((rewards::TAG_CORRECT, rewards::TAG_WRONG), (10.0, -10.0));
+    assert_eq!(rewards::UNVISITED_IN_DIRECTION, 15.0);
+    assert_eq!(rewards::OBSTACLE_AVOIDED, 10.0);
+    assert_eq!(rewards::COLLISION, -20.0);
+    assert_eq!(rewards::VISITED, -1.0);
+}
+
+#[test]
+fn the_task_graph_is_fig_2() {
+    let h = RescueHierarchy::new();
+    let children = |n: usize| match &h.nodes()[n].kind {
+        NodeKind::Composite { children } => children.clone(),
+        NodeKind::Primitive { .. } => vec![],
+    };
+    use hierarchy::*;
+    assert_eq!(children(ROOT), vec![NUR, VI, HC_SHARE]);
+    assert_eq!(children(NUR), vec![EXIT, NG, HC_NAV]);
+    assert_eq!(children(VI), vec![TAG, NG, HC_NAV]);
+    assert_eq!(children(NG), vec![FORWARD, BACKWARD, ROTATE_LEFT, ROTATE_RIGHT]);
+    assert_eq!(children(HC_NAV), children(NG));
+    assert_eq!(h.apprentice(HC_NAV), Some(NG));
+}
+
+fn state(stuck: bool, targets: bool, victim: VictimStatus, heading: bool) -> RescueState {
+    RescueState::new(stuck, targets, false, heading, victim, 0, 0, 0, 0, 0, 0, 0)
+}
+
+#[test]
+fn subtasks_terminate_as_documented() {
+    use hierarchy::*;
+    let h = RescueHierarchy::new();
+    let explore = state(false, true, VictimStatus::None, true);
+    assert!(!h.terminated(NUR, &explore) && h.terminated(VI, &explore));
+    assert!(!h.terminated(NG, &explore) && h.terminated(HC_NAV, &explore));
+    let stuck = state(true, true, VictimStatus::None, true);
+    assert!(h.terminated(NG, &stuck) && !h.terminated(HC_NAV, &stuck));
+    let uncertain = state(false, true, VictimStatus::UncertainAtHand, true);
+    assert!(h.terminated(NUR, &uncertain) && h.terminated(VI, &uncertain));
+    assert!(!h.terminated(HC_SHARE, &uncertain));
+    let certain = state(false, true, VictimStatus::CertainAtHand, true);
+    assert!(!h.terminated(VI, &certain) && h.terminated(NG, &certain));
+    let done = state(false, false, VictimStatus::None, false);
+    assert!(h.terminated(NG, &done) && !h.terminated(NUR, &done));
+}
+
+proptest! {
+    /// Every cell but the robot's lies in exactly one region, each region owns the diagonal
+    /// counter-clockwise from it, and turning the map by 90° turns the regions with it.
+    #[test]
+    fn regions_split_the_plane_by_the_diagonals(dx in -30i32..30, dy in -30i32..30) {
+        let r = region_of(dx, dy);
+        prop_assert_eq!(r.is_none(), dx == 0 && dy == 0);
+        if let Some(r) = r {
+            let expected = if dy.abs() > dx.abs() {
+                if dy > 0 { Direction::North } else { Direction::South }
+            } else if dx.abs() > dy.abs() {
+                if dx > 0 { Direction::East } else { Direction::West }
+            } else if dx > 0 && dy > 0 { Direction::East }
+            else if dx < 0 && dy > 0 { Direction::North }
+            else if dx < 0 && dy < 0 { Direction::West }
+            else { Direction::South };
+            prop_assert_eq!(r, expected);
+            // Rotation by +90°: (dx, dy) → (−dy, dx), region index + 1.
+            let turned = region_of(-dy, dx).unwrap();
+            prop_assert_eq!(turned, Direction::from_index(r.index() + 1));
+        }
+    }
+}
+
+#[test]
+fn table_ii_presets_multiply_the_base_values() {
+    let [terrain, neighbour, travel, equal] = ExplorationWeights::table_ii();
+    assert_eq!(terrain.terrain, [200.0, 100.0, 40.0]);
+    assert_eq!(neighbour.neighbour, [60.0, 40.0, 30.0, 20.0]);
+    assert_eq!(travel.travel, [200.0, 100.0, 40.0, 30.0]);
+    assert_eq!(equal.terrain, [10.0, 5.0, 2.0]);
+    assert_eq!(equal.travel_coefficient(9.0), 10.0);
+    assert_eq!(equal.travel_coefficient(9.1), 5.0);
+    assert_eq!(equal.travel_coefficient(200.0), 1.0);
+}
+
+#[test]
+fn exit_before_exploring_costs_and_collisions_are_punished() {
+    let scene = RescueScene::new(generate_rubble(2, &RubbleParams::default()));
+    let start = scene.start(0).unwrap();
+    let mut d = RescueDomain::new(
+        &scene,
+        start,
+        ExplorationWeights::named("equal").unwrap(),
+        DomainConfig::default(),
+        SimulatedOperator::new(OperatorProfile::expert(), 1),
+        1,
+    );
+    assert_eq!(d.act(action::TAG), rewards::TAG_WRONG);
+    // Turning never earns more than the obstacle bonus.
+    let r = d.act(action::ROTATE_LEFT);
+    assert!(r == rewards::VISITED || r == rewards::OBSTACLE_AVOIDED, "{r}");
+    assert!(d.guidance().heading.is_some());
+    assert_eq!(d.act(action::EXIT), rewards::EXIT_EARLY);
+    assert!(d.is_done());
+}
+
+fn small_training() -> TrainConfig {
+    TrainConfig {
+        trials: 40,
+        ..TrainConfig::default()
+    }
+}
+
+#[test]
+fn training_is_deterministic_and_maxq_stores_fewer_values() {
+    let (a, ra) = train(&small_training(), |_| {});
+    let (b, rb) = train(&small_training(), |_| {});
+    assert_eq!(ra, rb);
+    assert_eq!(a, b);
+    assert!(ra.maxq_q_values > 0 && ra.flat_q_values > 0);
+}
+
+#[test]
+fn a_saved_policy_evaluates_identically_and_corrupt_files_are_errors() {
+    let (learner, report) = train(&small_training(), |_| {});
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("policy.json");
+    PolicyFile::new(learner.clone(), TrainingInfo { seed: report.seed, trials: report.trials })
+        .save(&path)
+        .unwrap();
+    let loaded = PolicyFile::load(&path).unwrap();
+    assert_eq!(loaded.learner, learner);
+    let config = EvalConfig {
+        repetitions: 1,
+        scenes: vec!["B".into()],
+        weights: vec![ExplorationWeights::named("travel").unwrap()],
+        max_steps: 400,
+        ..EvalConfig::default()
+    };
+    let before = evaluate(&learner, &config, || {});
+    let after = evaluate(&loaded.learner, &config, || {});
+    assert_eq!(before, after);
+    assert_eq!(before.len(), 3);
+
+    std::fs::write(&path, "{\"format\": \"usar-maxq-policy\", \"version\": 1").unwrap();
+    let e = PolicyFile::load(&path).unwrap_err().to_string();
+    assert!(e.contains("not a policy file"), "{e}");
+    let mut wrong = PolicyFile::new(learner, TrainingInfo { seed: 1, trials: 1 });
+    wrong.version = 9;
+    std::fs::write(&path, serde_json::to_string(&wrong).unwrap()).unwrap();
+    let e = PolicyFile::load(&path).unwrap_err().to_string();
+    assert!(e.contains("version is 9, expected 1"), "{e}");
+}
