@@ -70,6 +70,10 @@ pub struct Exploration {
     /// Bids price paths on a grid this many map cells a side per cell (path lengths for b(p, r)
     /// and the Distance strategy); the path a robot drives is planned on the map itself.
     pub bid_grid_factor: usize,
+    /// Added to a robot's bid for the candidate it is already heading to (within 1 m of its
+    /// target). Without it, bids renormalised at every 5 s auction make robots swap targets
+    /// back and forth and never arrive; the paper does not say how its robots avoid this.
+    pub commitment_bonus: f64,
 }
 
 impl Default for Exploration {
@@ -84,6 +88,7 @@ impl Default for Exploration {
             max_robots_per_candidate: 3,
             label_errors: LabelErrors::Perfect,
             bid_grid_factor: 2,
+            commitment_bonus: 0.1,
         }
     }
 }
@@ -218,6 +223,8 @@ impl TeamConfig {
                 sample_period_s: 60.0,
             },
             map_resolution_m: Some(0.2),
+            // 1 m of frontier at 0.2 m: a doorway seen from the corridor, not a speck.
+            min_cluster_cells: 5,
             exploration,
             rescan_distance_m: 0.1,
             rescan_turn_rad: 0.1,

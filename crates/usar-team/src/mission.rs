@@ -75,6 +75,11 @@ const ESCAPES: [Velocity; 6] = [
         angular_radps: 0.0,
     },
 ];
+/// With auctions, a candidate some robot reached is offered to nobody within this many map cells
+/// for this long: a frontier that did not resolve on arrival lies where the laser cannot see
+/// (behind furniture), and would draw robot after robot.
+const VISITED_CELLS: i32 = 3;
+const VISITED_BLACKLIST_S: f64 = 60.0;
 /// A robot keeping its target occupies the candidate within this many map cells of it, and a
 /// robot allocated a candidate this near its target keeps its path.
 const KEPT_TARGET_CELLS: i32 = 5;
@@ -146,6 +151,8 @@ pub struct TeamMission {
     /// Planning grids from the merged map (full radius, tight radius), built on first use after
     /// each merge.
     nav_grids: Option<[NavGrid; 2]>,
+    /// The same grids for the auctions' path planning, each built on first use after a merge.
+    plan_grids: [Option<NavGrid>; 2],
     /// The coarse grid bids are priced on, built on first use after each merge.
     bid_grid: Option<NavGrid>,
     semantic: SemanticMap,
@@ -155,6 +162,8 @@ pub struct TeamMission {
     strategy_rng: Pcg64Mcg,
     radio_rng: Pcg64Mcg,
     assigned_per_label: BTreeMap<RoomLabel, u32>,
+    /// Candidates a robot reached (auctions): not offered to anyone for a while.
+    visited: Vec<(Cell, f64)>,
     relevant_target: f64,
     time_to_relevant_s: Option<f64>,
 }
@@ -306,6 +315,7 @@ impl TeamMission {
             victims_seen: Vec::new(),
             samples: Vec::new(),
             nav_grids: None,
+            plan_grids: [None, None],
             bid_grid: None,
             semantic,
             measures,
@@ -313,6 +323,7 @@ impl TeamMission {
             strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
             radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
             assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
+            visited: Vec::new(),
             time_to_relevant_s: None,
         })
     }
@@ -394,6 +405,7 @@ impl TeamMission {
             self.time_to_relevant_s = Some(self.sim.time_s());
         }
         self.nav_grids = None;
+        self.plan_grids = [None, None];
         self.bid_grid = None;
     }
 
@@ -618,32 +630,35 @@ impl TeamMission {
     /// the tight one. Waypoints from the robot to the goal.
     fn plan_path(&mut self, i: usize, goal: Cell) -> Option<Vec<Point2>> {
         let g = *self.base.merged.geometry();
-        let mut grids = self.nav_grids.take().unwrap_or_else(|| {
-            let merged = &self.base.merged;
-            [&self.base.navigable, &self.base.navigable_tight]
-                .map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))))
-        });
         let here = self.sim.robot(self.agents[i].id).pose.position();
         let mut found = None;
-        for grid in &mut grids {
-            let start = self.source_cells(grid, here, false)[0];
+        for radius in 0..2 {
+            // Built on first use after a merge; the tight grid only when the full one fails.
+            if self.plan_grids[radius].is_none() {
+                let merged = &self.base.merged;
+                let nav = [&self.base.navigable, &self.base.navigable_tight][radius];
+                self.plan_grids[radius] =
+                    Some(NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
+            }
+            let mut grid = self.plan_grids[radius].take().expect("built above");
+            let start = self.source_cells(&grid, here, false)[0];
             let was = (grid.is_passable(start), grid.is_passable(goal));
             grid.set_passable(start, true);
             grid.set_passable(goal, true);
             let path = self.planner.plan(
-                grid,
+                &grid,
                 start,
                 goal,
                 usar_map::planning::Connectivity::Eight,
             );
             grid.set_passable(start, was.0);
             grid.set_passable(goal, was.1);
+            self.plan_grids[radius] = Some(grid);
             if let Some(p) = path {
                 found = Some(p.cells.iter().map(|&c| g.cell_center(c)).collect());
                 break;
             }
         }
-        self.nav_grids = Some(grids);
         found
     }
 
@@ -676,6 +691,11 @@ impl TeamMission {
         if bidders.is_empty() {
             return false;
         }
+        self.visited.retain(|&(_, until)| until > now);
+        let visited: Vec<bool> = cands
+            .iter()
+            .map(|c| self.visited.iter().any(|&(v, _)| v.chebyshev(c.cell) <= VISITED_CELLS))
+            .collect();
         // What is known of each candidate: room, perceived label, i(p).
         let rooms: Vec<Option<usize>> = cands
             .iter()
@@ -696,10 +716,14 @@ impl TeamMission {
                 doors: r.map_or(0, |k| self.semantic.rooms()[k].doors),
             })
             .collect();
+        let sr = self.config.exploration.coordination == crate::coordination::Coordination::Sr;
         let ideal: Vec<usize> = rooms
             .iter()
             .zip(&labels)
             .map(|(r, &label)| {
+                if sr {
+                    return 1;
+                }
                 self.sizer.ideal(
                     r.map(|k| &self.semantic.rooms()[k]),
                     label,
@@ -730,8 +754,9 @@ impl TeamMission {
             );
             let row: Vec<Option<crate::bids::Travel>> = cands
                 .iter()
-                .map(|c| {
-                    if agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
+                .zip(&visited)
+                .map(|(c, &visited)| {
+                    if visited || agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
                         return None;
                     }
                     let goal = cg.world_to_cell(g.cell_center(c.cell));
@@ -739,15 +764,7 @@ impl TeamMission {
                     let length_m = cells * cg.resolution_m;
                     let time_s = if needs_time {
                         let path = agent.field.path_to_source(goal)?;
-                        let mut points: Vec<Point2> =
-                            path.cells.iter().rev().map(|&c| cg.cell_center(c)).collect();
-                        points[0] = pose.position();
-                        crate::criteria::travel_time_s(
-                            &points,
-                            pose.theta,
-                            spec.max_linear_mps,
-                            spec.max_angular_radps,
-                        )
+                        grid_travel_time_s(&path.cells, length_m, pose.theta, &spec)
                     } else {
                         length_m / spec.max_linear_mps
                     };
@@ -757,7 +774,7 @@ impl TeamMission {
             travel.push(row);
         }
         self.bid_grid = Some(grid);
-        let bids = crate::bids::bids(
+        let mut bids = crate::bids::bids(
             self.config.exploration.strategy,
             &self.measures,
             &self.config.exploration.hypothesis,
@@ -766,6 +783,15 @@ impl TeamMission {
             &travel,
             &mut self.strategy_rng,
         );
+        let bonus = self.config.exploration.commitment_bonus;
+        for (row, &i) in bids.iter_mut().zip(&bidders) {
+            if let Some(t) = self.agents[i].target
+                && let Some((k, _)) = nearest_candidate(&cands, t)
+                && let Some(u) = row[k].as_mut()
+            {
+                *u += bonus;
+            }
+        }
         // Robots keeping their targets occupy the candidate nearest to each target.
         let mut already = vec![0usize; cands.len()];
         for (j, a) in self.agents.iter().enumerate() {
@@ -773,12 +799,7 @@ impl TeamMission {
                 continue;
             }
             if let Some(t) = a.target
-                && let Some((k, _)) = cands
-                    .iter()
-                    .enumerate()
-                    .map(|(k, c)| (k, c.cell.chebyshev(t)))
-                    .filter(|&(_, d)| d <= KEPT_TARGET_CELLS)
-                    .min_by_key(|&(k, d)| (d, k))
+                && let Some((k, _)) = nearest_candidate(&cands, t)
             {
                 already[k] += 1;
             }
@@ -814,6 +835,16 @@ impl TeamMission {
                                     .assigned_per_label
                                     .entry(self.semantic.rooms()[k].label)
                                     .or_default() += 1;
+                            }
+                            if std::env::var_os("USAR_TEAM_TRACE").is_some() {
+                                let r = self.sim.robot(self.agents[i].id);
+                                eprintln!(
+                                    "t={now:.1} robot {i} at ({:.1},{:.1}) -> ({:.1},{:.1}) {:?} u={:.3} A={} path={} wp contact={}",
+                                    r.pose.x, r.pose.y,
+                                    g.cell_center(target).x, g.cell_center(target).y,
+                                    labels[c], bids[k][c].unwrap_or(-1.0), cands[c].frontier_cells,
+                                    waypoints.len(), r.in_contact()
+                                );
                             }
                             let agent = &mut self.agents[i];
                             agent.follower = PathFollower::new(waypoints);
@@ -974,6 +1005,7 @@ impl TeamMission {
             }
             // Who needs a new target: reached it, has none, made no progress, or recovered.
             let mut who = replan;
+            let auctioned = self.config.exploration.strategy != Strategy::Nearest;
             for (i, a) in self.agents.iter_mut().enumerate() {
                 let r = self.sim.robot(a.id);
                 if r.failed || a.recovery.is_some() || who.contains(&i) {
@@ -1002,6 +1034,9 @@ impl TeamMission {
                     // A frontier that did not resolve on arrival (it lies behind something the
                     // laser cannot see past) is left alone for a while.
                     a.blacklist.push((reached, now + REACHED_BLACKLIST_S));
+                    if auctioned {
+                        self.visited.push((reached, now + VISITED_BLACKLIST_S));
+                    }
                     a.target = None;
                     who.push(i);
                 } else if done && merged_now {
@@ -1098,6 +1133,53 @@ impl TeamMission {
             merged_map: self.base.merged,
         }
     }
+}
+
+/// b(p, r) on a grid path given from the goal back to the robot (`cells`, as a distance field's
+/// descent returns it) of `length_m`: length / v + Σ|turns| / ω, the turns being the robot's
+/// turn onto the first step and the 45° multiples between consecutive steps — what
+/// [`crate::criteria::travel_time_s`] gives on the cell centres, without a trigonometric call
+/// per step.
+fn grid_travel_time_s(cells: &[Cell], length_m: f64, theta: f64, spec: &usar_sim::RobotSpec) -> f64 {
+    let step_dir = |a: Cell, b: Cell| -> usize {
+        usar_world::NEIGHBORS8
+            .iter()
+            .position(|&(dc, dr)| (b.col - a.col, b.row - a.row) == (dc, dr))
+            .map_or(0, |k| DIRECTION_OCTANT[k])
+    };
+    let mut turning = 0.0;
+    let mut previous: Option<usize> = None;
+    for w in cells.windows(2).rev() {
+        // Walking from the robot (end of `cells`) towards the goal.
+        let d = step_dir(w[1], w[0]);
+        match previous {
+            None => {
+                let heading = d as f64 * std::f64::consts::FRAC_PI_4;
+                turning += usar_world::normalize_angle(heading - theta).abs();
+            }
+            Some(p) => {
+                let k = (d + 8 - p) % 8;
+                turning += k.min(8 - k) as f64 * std::f64::consts::FRAC_PI_4;
+            }
+        }
+        previous = Some(d);
+    }
+    length_m / spec.max_linear_mps + turning / spec.max_angular_radps
+}
+
+/// The octant (0 = east, counter-clockwise in 45° steps) of each move of
+/// [`usar_world::NEIGHBORS8`] (east, north, west, south, north-east, north-west, south-west,
+/// south-east).
+const DIRECTION_OCTANT: [usize; 8] = [0, 2, 4, 6, 1, 3, 5, 7];
+
+/// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
+fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
+    cands
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (k, c.cell.chebyshev(target)))
+        .filter(|&(_, d)| d <= KEPT_TARGET_CELLS)
+        .min_by_key(|&(k, d)| (d, k))
 }
 
 /// The passable cell nearest `c` (Chebyshev rings up to `reach`), if any.
