@@ -113,6 +113,12 @@ pub struct Comparison {
     /// The alternative of a t-test: `two-sided`, `greater` (first group greater), `less`.
     #[serde(default = "two_sided")]
     pub tails: Tails,
+    /// Compare only the runs with these levels of other factors (e.g. one cell of a table).
+    #[serde(default)]
+    pub within: BTreeMap<String, Level>,
+    /// Shown beside the result (e.g. what the paper found).
+    #[serde(default)]
+    pub note: String,
 }
 
 fn two_sided() -> Tails {
@@ -123,9 +129,11 @@ fn two_sided() -> Tails {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReportSpec {
-    /// Factor whose levels are the table's rows (default: the first factor).
+    /// Factor whose levels are the table's rows (default: the first factor); `a+b` makes one
+    /// row per combination of a's and b's levels.
     pub rows: Option<String>,
-    /// Factor whose levels are the table's columns (default: none, one column).
+    /// Factor whose levels are the table's columns (default: none, one column); `a+b` as for
+    /// rows.
     pub columns: Option<String>,
     /// Metrics tabulated (default: all of the runner's).
     #[serde(default)]
@@ -441,7 +449,7 @@ fn check_report(
     };
     for (key, f) in [("rows", &report.rows), ("columns", &report.columns)] {
         if let Some(f) = f
-            && varied(f).is_none()
+            && f.split('+').any(|f| varied(f).is_none())
         {
             return Err(bad(
                 key,
@@ -475,6 +483,37 @@ fn check_report(
                     metrics.join(", ")
                 ),
             ));
+        }
+        for (f, l) in &c.within {
+            let Some((_, levels)) = varied(f) else {
+                return Err(bad(
+                    "within",
+                    format!("comparison within `{f}`, expected a varied factor ({})", varied_names()),
+                ));
+            };
+            if c.factor.split('+').any(|x| x == f) || !levels.iter().any(|v| v.to_string() == l.to_string()) {
+                return Err(bad(
+                    "within",
+                    format!("comparison within {f} = {l}: not a level of `{f}` or the compared factor itself"),
+                ));
+            }
+        }
+        if c.factor.contains('+') {
+            // A composite factor (`strategy+coordination`): groups are joined levels
+            // (`s-mcdm · mrv1`), checked when the report is built.
+            if let Some(f) = c.factor.split('+').find(|f| varied(f).is_none()) {
+                return Err(bad(
+                    "factor",
+                    format!("comparison over `{}`: `{f}` is not a varied factor ({})", c.factor, varied_names()),
+                ));
+            }
+            if c.test != TestKind::Anova && c.groups.len() != 2 {
+                return Err(bad(
+                    "groups",
+                    format!("a t-test over `{}` needs exactly two groups", c.factor),
+                ));
+            }
+            continue;
         }
         let Some((_, lv)) = varied(&c.factor) else {
             return Err(bad(

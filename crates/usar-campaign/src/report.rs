@@ -28,6 +28,10 @@ pub struct Table {
 pub struct TestRow {
     pub metric: String,
     pub factor: String,
+    /// The runs compared, when restricted (`robots = 6, hypothesis = big`); empty: all.
+    pub within: String,
+    /// The campaign's note on the comparison (e.g. the paper's result).
+    pub note: String,
     /// The levels compared, in order (a t-test's first group is the one `greater` refers to).
     pub groups: Vec<String>,
     pub test: TestKind,
@@ -51,20 +55,39 @@ pub struct Report {
     pub tests: Vec<TestRow>,
 }
 
+/// Joins the levels of a composite axis (`robots+coordination`).
+const LEVEL_JOIN: &str = " · ";
+
+/// A run's level of `factor`; for a composite `a+b`, its levels of a and b joined.
 fn level_of(run: &StoredRun, factor: &str) -> String {
-    run.config
-        .get(factor)
-        .map(Level::to_string)
-        .unwrap_or_default()
+    factor
+        .split('+')
+        .map(|f| run.config.get(f).map(Level::to_string).unwrap_or_default())
+        .collect::<Vec<_>>()
+        .join(LEVEL_JOIN)
 }
 
-/// Levels of `factor` in the order the campaign lists them.
+/// Levels of `factor` in the order the campaign lists them; for a composite `a+b`, every
+/// combination, b varying fastest.
 fn levels(campaign: &CampaignFile, factor: &str) -> Vec<String> {
-    campaign
-        .factors
-        .get(factor)
-        .map(|ls| ls.iter().map(Level::to_string).collect())
-        .unwrap_or_default()
+    factor.split('+').fold(vec![String::new()], |acc, f| {
+        let ls: Vec<String> = campaign
+            .factors
+            .get(f)
+            .map(|ls| ls.iter().map(Level::to_string).collect())
+            .unwrap_or_default();
+        acc.iter()
+            .flat_map(|a| {
+                ls.iter().map(move |l| {
+                    if a.is_empty() {
+                        l.clone()
+                    } else {
+                        format!("{a}{LEVEL_JOIN}{l}")
+                    }
+                })
+            })
+            .collect()
+    })
 }
 
 /// Builds the report of `runs` (all of one campaign) as its campaign file asks.
@@ -144,14 +167,21 @@ fn compare(campaign: &CampaignFile, c: &Comparison, runs: &[StoredRun]) -> TestR
     } else {
         c.groups.iter().map(Level::to_string).collect()
     };
+    let within = |r: &StoredRun| {
+        c.within
+            .iter()
+            .all(|(f, l)| r.config.get(f).is_some_and(|v| v.to_string() == l.to_string()))
+    };
     let values = |g: &str| -> Vec<(String, f64)> {
         runs.iter()
-            .filter(|r| level_of(r, &c.factor) == g)
+            .filter(|r| within(r) && level_of(r, &c.factor) == g)
             .filter_map(|r| {
                 let v = *r.output.metrics.get(&c.metric)?;
                 // The pairing key: every other factor's value and the seed.
                 let mut rest = r.config.clone();
-                rest.0.remove(&c.factor);
+                for f in c.factor.split('+') {
+                    rest.0.remove(f);
+                }
                 Some((format!("{}|{}", rest.describe(&[]), r.seed), v))
             })
             .collect()
@@ -191,6 +221,13 @@ fn compare(campaign: &CampaignFile, c: &Comparison, runs: &[StoredRun]) -> TestR
     TestRow {
         metric: c.metric.clone(),
         factor: c.factor.clone(),
+        within: c
+            .within
+            .iter()
+            .map(|(f, l)| format!("{f} = {l}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        note: c.note.clone(),
         groups,
         test: c.test,
         tails: c.tails,
@@ -209,6 +246,15 @@ fn cell_text(s: &Option<Summary>) -> String {
         }) => format!("{mean:.4} ({sd:.4})"),
         Some(Summary { mean, sd: None, .. }) => format!("{mean:.4}"),
         None => "–".into(),
+    }
+}
+
+/// The compared factor, with the runs it is restricted to.
+fn factor_text(t: &TestRow) -> String {
+    if t.within.is_empty() {
+        t.factor.clone()
+    } else {
+        format!("{} ({})", t.factor, t.within)
     }
 }
 
@@ -269,17 +315,18 @@ impl Report {
             out += "\n";
         }
         if !self.tests.is_empty() {
-            out += "## Comparisons\n\n| metric | factor | groups | test | n | statistic | df | p |\n|---|---|---|---|---|---|---|---|\n";
+            out += "## Comparisons\n\n| metric | factor | groups | test | n | statistic | df | p | note |\n|---|---|---|---|---|---|---|---|---|\n";
             for t in &self.tests {
                 let (s, df, p) = stat_text(t);
                 let n: Vec<String> = t.n.iter().map(usize::to_string).collect();
                 out += &format!(
-                    "| {} | {} | {} | {} | {} | {s} | {df} | {p} |\n",
+                    "| {} | {} | {} | {} | {} | {s} | {df} | {p} | {} |\n",
                     t.metric,
-                    t.factor,
+                    factor_text(t),
                     t.groups.join(", "),
                     test_name(t),
-                    n.join(", ")
+                    n.join(", "),
+                    t.note
                 );
             }
             out += "\n";
@@ -333,20 +380,21 @@ impl Report {
             out += "</table>\n";
         }
         if !self.tests.is_empty() {
-            out += "<h2>Comparisons</h2>\n<table><tr><th>metric</th><th>factor</th><th>groups</th><th>test</th><th>n</th><th>statistic</th><th>df</th><th>p</th></tr>\n";
+            out += "<h2>Comparisons</h2>\n<table><tr><th>metric</th><th>factor</th><th>groups</th><th>test</th><th>n</th><th>statistic</th><th>df</th><th>p</th><th>note</th></tr>\n";
             for t in &self.tests {
                 let (s, df, p) = stat_text(t);
                 let n: Vec<String> = t.n.iter().map(usize::to_string).collect();
                 out += &format!(
-                    "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                    "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                     esc(&t.metric),
-                    esc(&t.factor),
+                    esc(&factor_text(t)),
                     esc(&t.groups.join(", ")),
                     esc(&test_name(t)),
                     n.join(", "),
                     esc(&s),
                     df,
-                    p
+                    p,
+                    esc(&t.note)
                 );
             }
             out += "</table>\n";

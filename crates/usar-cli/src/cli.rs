@@ -28,6 +28,10 @@ pub enum Command {
     Plan(PlanArgs),
     /// Explore a scene with a team of wheeled robots going to their nearest frontiers.
     Explore(ExploreArgs),
+    /// Paper 002's semantically-informed multirobot exploration (strategies, coordination,
+    /// relevant area).
+    #[command(subcommand)]
+    Team(TeamCommand),
     /// Run the main job on built-in defaults: a team explores a generated office floor with
     /// victims; writes a report folder (map, coverage over time, victims, summary.json).
     Demo(DemoArgs),
@@ -520,6 +524,72 @@ pub struct BenchArgs {
     #[arg(long)]
     pub quick: bool,
     /// Print one JSON object with every figure.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum TeamCommand {
+    /// One run of paper 002's exploration: a team explores a floor with an exploration
+    /// strategy and a coordination method; prints the explored relevant area, total area and
+    /// distance at the end and every simulated minute. Relevant area and labels come from the
+    /// scene's room layer.
+    Run(TeamRunArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct TeamRunArgs {
+    /// The scene: office, mall (generated with --scene-seed), or a scene file / map with a
+    /// room layer.
+    #[arg(long, default_value = "office")]
+    pub scene: String,
+    /// Seed of the generated floor (the paper runs every configuration on one floor).
+    #[arg(long, default_value_t = 1)]
+    pub scene_seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Number of robots (the scene needs as many start poses).
+    #[arg(long, default_value_t = 6)]
+    pub robots: usize,
+    /// Exploration strategy: random, distance, d-mcdm, s-mcdm (or nearest: the baseline).
+    #[arg(long, default_value = "s-mcdm")]
+    pub strategy: String,
+    /// Coordination method: sr, mrv1, mrv2.
+    #[arg(long, default_value = "sr")]
+    pub coordination: String,
+    /// Where the victims are believed to be: big (rooms) or small (rooms).
+    #[arg(long, default_value = "big")]
+    pub hypothesis: String,
+    /// Simulated time limit, minutes.
+    #[arg(long, default_value_t = 20.0)]
+    pub minutes: f64,
+    /// Seed of the run.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Robot model: crawler, wheeled, or a robot TOML file.
+    #[arg(long, default_value = "wheeled")]
+    pub robot: String,
+    /// Semantic errors (paper 002 §4.4): `perfect`, `random:RATE` (each classification wrong
+    /// with probability RATE) or `until-known:FRACTION` (random label while less than
+    /// FRACTION of the room is known).
+    #[arg(long, default_value = "perfect")]
+    pub label_errors: String,
+    /// Stop once this fraction of the relevant area is known (e.g. 0.9).
+    #[arg(long)]
+    pub stop_at_relevant: Option<f64>,
+    /// The base station merges the maps this often, seconds.
+    #[arg(long, default_value_t = 2.5)]
+    pub merge_period: f64,
+    /// Radio range from the base station (the first start pose), metres (default: unlimited).
+    #[arg(long)]
+    pub radio_range: Option<f64>,
+    /// Probability that a map upload or a bid is lost.
+    #[arg(long, default_value_t = 0.0)]
+    pub radio_drop: f64,
+    /// A robot fails: ROBOT@SECONDS (0-based robot index), repeatable.
+    #[arg(long = "fail")]
+    pub failures: Vec<String>,
+    /// Print the run as JSON (no progress bar).
     #[arg(long)]
     pub json: bool,
 }

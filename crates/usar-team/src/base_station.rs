@@ -4,7 +4,7 @@
 
 use crate::coverage::CoverageCounter;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
-use usar_world::Scene;
+use usar_world::{GridGeometry, Scene};
 
 pub struct BaseStation {
     pub merged: OccupancyGrid,
@@ -19,19 +19,21 @@ pub struct BaseStation {
 }
 
 impl BaseStation {
+    /// A base station whose map has `geometry` (the robots' maps must share it).
     pub fn new(
         scene: &Scene,
+        geometry: GridGeometry,
         params: OccupancyParams,
         radius_m: f64,
         tight_radius_m: f64,
         start: usar_world::Point2,
     ) -> Self {
-        let merged = OccupancyGrid::new(*scene.geometry(), params);
+        let merged = OccupancyGrid::new(geometry, params);
         Self {
             frontiers: FrontierTracker::new(&merged),
             navigable: NavigableMap::new(&merged, radius_m),
             navigable_tight: NavigableMap::new(&merged, tight_radius_m),
-            coverage: CoverageCounter::new(scene, start),
+            coverage: CoverageCounter::new(scene, start, &geometry),
             merged,
             changed: Vec::new(),
         }
@@ -47,6 +49,11 @@ impl BaseStation {
         self.navigable_tight
             .update_from(&self.merged, &self.changed);
         self.coverage.update_from(&self.merged, &self.changed);
+    }
+
+    /// The cells whose class changed at the last merge.
+    pub fn last_changes(&self) -> &[u32] {
+        &self.changed
     }
 
     pub fn clusters(&mut self, min_cells: usize) -> Vec<FrontierCluster> {

@@ -23,6 +23,22 @@ pub enum Coordination {
     Mrv2,
 }
 
+impl Coordination {
+    pub const ALL: [Coordination; 3] = [Coordination::Sr, Coordination::Mrv1, Coordination::Mrv2];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Coordination::Sr => "sr",
+            Coordination::Mrv1 => "mrv1",
+            Coordination::Mrv2 => "mrv2",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| c.as_str() == name)
+    }
+}
+
 /// MRv2's discount curve.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DiscountParams {
@@ -62,13 +78,42 @@ pub fn allocate(
     method: Coordination,
     discount: DiscountParams,
 ) -> Vec<Option<usize>> {
+    allocate_among(bids, ideal, &vec![0; ideal.len()], method, discount)
+}
+
+/// Like [`allocate`], when `already[p]` robots that are not bidding (they keep their targets)
+/// are on candidate p: they count towards i(p) (SR, MRv1) and MRv2's discount.
+pub fn allocate_among(
+    bids: &[Vec<Option<f64>>],
+    ideal: &[usize],
+    already: &[usize],
+    method: Coordination,
+    discount: DiscountParams,
+) -> Vec<Option<usize>> {
     let robots = bids.len();
     let cands = ideal.len();
     let mut u: Vec<Vec<Option<f64>>> = bids.to_vec();
     let mut out = vec![None; robots];
     let mut robot_free = vec![true; robots];
-    let mut cand_open = vec![true; cands];
-    let mut count = vec![0usize; cands];
+    let mut count = already.to_vec();
+    let limit = |p: usize| match method {
+        Coordination::Sr => Some(1),
+        Coordination::Mrv1 => Some(ideal[p].max(1)),
+        Coordination::Mrv2 => None,
+    };
+    let mut cand_open: Vec<bool> = (0..cands)
+        .map(|p| limit(p).is_none_or(|l| count[p] < l))
+        .collect();
+    if method == Coordination::Mrv2 {
+        for (p, &k) in count.iter().enumerate() {
+            let f = discount.factor(k, ideal[p]);
+            for row in u.iter_mut() {
+                if let Some(v) = row[p].as_mut() {
+                    *v *= f;
+                }
+            }
+        }
+    }
     loop {
         let mut best: Option<(f64, usize, usize)> = None;
         for (r, row) in u.iter().enumerate().filter(|(r, _)| robot_free[*r]) {
@@ -87,12 +132,7 @@ pub fn allocate(
         out[r] = Some(p);
         robot_free[r] = false;
         count[p] += 1;
-        let limit = match method {
-            Coordination::Sr => Some(1),
-            Coordination::Mrv1 => Some(ideal[p].max(1)),
-            Coordination::Mrv2 => None,
-        };
-        match limit {
+        match limit(p) {
             Some(l) if count[p] >= l => cand_open[p] = false,
             Some(_) => {}
             None => {

@@ -1,7 +1,7 @@
 //! Coverage: the part of the scene's reachable area that the base station's map knows.
 
 use usar_map::{CellClass, OccupancyGrid};
-use usar_world::{Grid, Scene};
+use usar_world::{Grid, GridGeometry, Scene};
 
 /// Counts known cells among the reachable ones, incrementally.
 #[derive(Clone, Debug)]
@@ -13,9 +13,22 @@ pub struct CoverageCounter {
 }
 
 impl CoverageCounter {
-    /// Reachable area: obstacle-free cells 4-connected to the first start pose.
-    pub fn new(scene: &Scene, start: usar_world::Point2) -> Self {
-        let reachable = scene.reachable_mask(scene.geometry().world_to_cell(start));
+    /// Reachable area: obstacle-free cells 4-connected to the first start pose, on the map
+    /// `geometry` (a map cell is reachable when the scene cell at its centre is).
+    pub fn new(scene: &Scene, start: usar_world::Point2, geometry: &GridGeometry) -> Self {
+        let sg = *scene.geometry();
+        let fine = scene.reachable_mask(sg.world_to_cell(start));
+        let reachable = if sg == *geometry {
+            fine
+        } else {
+            let cells = (0..geometry.len())
+                .map(|i| {
+                    let c = sg.world_to_cell(geometry.cell_center(geometry.cell_of_index(i)));
+                    fine.get(c).copied().unwrap_or(false)
+                })
+                .collect();
+            Grid::from_vec(*geometry, cells).expect("one value per cell")
+        };
         let reachable_cells = reachable.as_slice().iter().filter(|&&r| r).count();
         let n = reachable.as_slice().len();
         Self {

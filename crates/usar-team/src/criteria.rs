@@ -49,6 +49,15 @@ impl Hypothesis {
         )
     }
 
+    /// A built-in hypothesis by name: `big` or `small`.
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "big" => Some(Self::big_rooms()),
+            "small" => Some(Self::small_rooms()),
+            _ => None,
+        }
+    }
+
     fn of(name: &str, rooms: [(RoomLabel, f64); 3]) -> Self {
         let mut relevance: BTreeMap<RoomLabel, f64> = rooms.into_iter().collect();
         relevance.insert(RoomLabel::Corridor, 0.15);

@@ -98,17 +98,27 @@ impl Mamdani {
     }
 
     /// The centroid of the aggregated output, or `None` when no rule fires.
+    ///
+    /// The aggregate max over rules of min(strength, consequent(y)) equals the max over output
+    /// terms of min(the strongest rule concluding that term, term(y)), which is how it is
+    /// computed: one clip level per output term instead of one per rule.
     pub fn infer(&self, inputs: &[f64]) -> Option<f64> {
         let strengths = self.strengths(inputs);
+        let mut clip = vec![0.0f64; self.output.terms.len()];
+        for (r, &s) in self.rules.iter().zip(&strengths) {
+            clip[r.consequent] = clip[r.consequent].max(s);
+        }
         let (lo, hi) = self.output_range;
         let (mut num, mut den) = (0.0, 0.0);
         for k in 0..CENTROID_SAMPLES {
             let y = lo + (hi - lo) * k as f64 / (CENTROID_SAMPLES - 1) as f64;
             let mu = self
-                .rules
+                .output
+                .terms
                 .iter()
-                .zip(&strengths)
-                .map(|(r, &s)| s.min(self.output.terms[r.consequent].1.degree(y)))
+                .zip(&clip)
+                .filter(|&(_, &c)| c > 0.0)
+                .map(|((_, m), &c)| c.min(m.degree(y)))
                 .fold(0.0, f64::max);
             num += mu * y;
             den += mu;

@@ -8,6 +8,7 @@
 
 pub mod assignment;
 pub mod base_station;
+pub mod bids;
 mod config;
 pub mod coordination;
 pub mod coverage;
@@ -17,9 +18,11 @@ pub mod fuzzy;
 pub mod mcdm;
 mod mission;
 mod outcome;
+pub mod paper_run;
 pub mod report;
+pub mod semantic_map;
 pub mod team_size;
 
-pub use self::config::{TeamConfig, Timing};
+pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
 pub use self::mission::{MissionError, TeamMission};
 pub use self::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};

@@ -4,15 +4,28 @@
 
 use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
-use crate::config::TeamConfig;
+use crate::bids::{Measures, TeamSizer};
+use crate::config::{Strategy, TeamConfig};
 use crate::driver::PathFollower;
+use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
+use crate::semantic_map::SemanticMap;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::collections::BTreeMap;
 use std::sync::Arc;
-use usar_map::planning::{DistanceField, NavGrid};
+use usar_map::planning::{DistanceField, GridAStar, NavGrid};
 use usar_map::{OccupancyGrid, OccupancyParams};
 use usar_sim::sensors::{HeatTruth, LaserScan};
-use usar_sim::{PlacementError, RobotId, Simulation, Velocity};
-use usar_world::{Cell, Point2, Scene};
+use usar_sim::{PlacementError, RobotId, Simulation, Velocity, derive_seed};
+use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene};
+
+/// Random streams of the team (robots use streams 0, 1, … of the simulation's seed).
+const SEMANTIC_STREAM: u64 = 1 << 20;
+const STRATEGY_STREAM: u64 = (1 << 20) + 1;
+const RADIO_STREAM: u64 = (1 << 20) + 2;
+/// Fraction of the relevant area whose time is reported when no stop target is set (§4.4).
+const DEFAULT_RELEVANT_TARGET: f64 = 0.9;
 
 /// A robot is stuck when it moved less than this in [`STUCK_WINDOW_S`] while it had a target.
 const STUCK_DISTANCE_M: f64 = 0.2;
@@ -62,6 +75,14 @@ const ESCAPES: [Velocity; 6] = [
         angular_radps: 0.0,
     },
 ];
+/// With auctions, a candidate some robot reached is offered to nobody within this many map cells
+/// for this long: a frontier that did not resolve on arrival lies where the laser cannot see
+/// (behind furniture), and would draw robot after robot.
+const VISITED_CELLS: i32 = 3;
+const VISITED_BLACKLIST_S: f64 = 60.0;
+/// A robot keeping its target occupies the candidate within this many map cells of it, and a
+/// robot allocated a candidate this near its target keeps its path.
+const KEPT_TARGET_CELLS: i32 = 5;
 /// A target that needed this many recoveries is given up (blacklisted) like a stuck one.
 const MAX_RECOVERIES: u32 = 3;
 /// When no candidate is reachable from where a robot stands (the map, refined since it drove
@@ -112,6 +133,12 @@ struct Agent {
     /// Whether it may retrace when no candidate is reachable: once after each target, so that
     /// a robot with nothing left to do goes idle instead of pacing back and forth.
     may_retrace: bool,
+    /// Where it took its last scan.
+    last_scan: Option<Pose2>,
+    /// Whether its link to the base station worked at the last exchange.
+    linked: bool,
+    /// With a limited radio: the base station's copy of this robot's map as last received.
+    uploaded: Option<OccupancyGrid>,
 }
 
 pub struct TeamMission {
@@ -124,6 +151,38 @@ pub struct TeamMission {
     /// Planning grids from the merged map (full radius, tight radius), built on first use after
     /// each merge.
     nav_grids: Option<[NavGrid; 2]>,
+    /// The same grids for the auctions' path planning, each built on first use after a merge.
+    plan_grids: [Option<NavGrid>; 2],
+    /// The coarse grid bids are priced on, built on first use after each merge.
+    bid_grid: Option<NavGrid>,
+    semantic: SemanticMap,
+    measures: Measures,
+    sizer: TeamSizer,
+    planner: GridAStar,
+    strategy_rng: Pcg64Mcg,
+    radio_rng: Pcg64Mcg,
+    assigned_per_label: BTreeMap<RoomLabel, u32>,
+    /// Candidates a robot reached (auctions): not offered to anyone for a while.
+    visited: Vec<(Cell, f64)>,
+    relevant_target: f64,
+    time_to_relevant_s: Option<f64>,
+}
+
+/// The grid of the team's maps: the scene's, or the same extent at `resolution_m`.
+fn map_geometry(scene: &Scene, resolution_m: Option<f64>) -> GridGeometry {
+    let g = *scene.geometry();
+    match resolution_m {
+        Some(r) if (r - g.resolution_m).abs() > 1e-12 => {
+            let (w, h) = g.extent_m();
+            GridGeometry::new(
+                (w / r).ceil() as u32,
+                (h / r).ceil() as u32,
+                r,
+                g.origin,
+            )
+        }
+        _ => g,
+    }
 }
 
 impl TeamMission {
@@ -146,6 +205,54 @@ impl TeamMission {
                 )));
             }
         }
+        if let Some(r) = config.map_resolution_m
+            && !(r.is_finite() && r >= scene.geometry().resolution_m)
+        {
+            return Err(MissionError::Config(format!(
+                "map_resolution_m: found {r}, expected at least the scene's {} m",
+                scene.geometry().resolution_m
+            )));
+        }
+        let x = &config.exploration;
+        let measures = Measures {
+            s_mcdm: FuzzyMeasure::new(&x.s_mcdm)
+                .map_err(|e| MissionError::Config(format!("S-MCDM measure: {e}")))?,
+            d_mcdm: FuzzyMeasure::new(&x.d_mcdm)
+                .map_err(|e| MissionError::Config(format!("D-MCDM measure: {e}")))?,
+        };
+        x.label_errors.check().map_err(MissionError::Config)?;
+        if x.bid_grid_factor == 0 || x.max_robots_per_candidate == 0 {
+            return Err(MissionError::Config(
+                "bid_grid_factor and max_robots_per_candidate must be at least 1".into(),
+            ));
+        }
+        if !(0.0..=1.0).contains(&config.radio.drop_probability) {
+            return Err(MissionError::Config(format!(
+                "radio drop probability: found {}, expected a probability in [0, 1]",
+                config.radio.drop_probability
+            )));
+        }
+        if let Some(r) = config.radio.range_m
+            && !(r > 0.0)
+        {
+            return Err(MissionError::Config(format!(
+                "radio range: found {r} m, expected a positive distance"
+            )));
+        }
+        if let Some(f) = config.failures.iter().find(|f| f.robot >= config.robots) {
+            return Err(MissionError::Config(format!(
+                "failure of robot {}: the team has robots 0 to {}",
+                f.robot,
+                config.robots - 1
+            )));
+        }
+        if let Some(f) = config.stop_at_relevant
+            && !(0.0..=1.0).contains(&f)
+        {
+            return Err(MissionError::Config(format!(
+                "stop_at_relevant: found {f}, expected a fraction in [0, 1]"
+            )));
+        }
         if scene.start_poses.len() < config.robots {
             return Err(MissionError::NotEnoughStartPoses {
                 scene: scene.name.clone(),
@@ -155,12 +262,13 @@ impl TeamMission {
         }
         let mut sim = Simulation::new(scene.clone(), config.sim.clone(), seed);
         let params = OccupancyParams::default();
+        let geometry = map_geometry(&scene, config.map_resolution_m);
         let mut agents = Vec::new();
         for &pose in &scene.start_poses[..config.robots] {
             let id = sim.add_robot(config.robot.clone(), pose)?;
             agents.push(Agent {
                 id,
-                map: OccupancyGrid::new(*scene.geometry(), params),
+                map: OccupancyGrid::new(geometry, params),
                 scan: LaserScan::default(),
                 follower: PathFollower::default(),
                 target: None,
@@ -172,20 +280,34 @@ impl TeamMission {
                 recoveries: 0,
                 escaping: false,
                 may_retrace: true,
+                last_scan: None,
+                linked: true,
+                uploaded: (config.radio != crate::config::Radio::default())
+                    .then(|| OccupancyGrid::new(geometry, params)),
             });
         }
         let start = scene.start_poses[0].position();
         // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
-        let half_cell = scene.geometry().resolution_m / 2.0;
+        let half_cell = geometry.resolution_m / 2.0;
         let tight = config.robot.width_m / 2.0 + TIGHT_MARGIN_M + half_cell;
         let base = BaseStation::new(
             &scene,
+            geometry,
             params,
             config.robot.circumscribed_radius_m() + half_cell,
             tight,
             start,
         );
+        let semantic = SemanticMap::new(
+            &scene,
+            &geometry,
+            &config.exploration.hypothesis,
+            config.exploration.label_errors,
+            Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM)),
+        );
         Ok(Self {
+            sizer: TeamSizer::new(config.exploration.max_robots_per_candidate),
+            relevant_target: config.stop_at_relevant.unwrap_or(DEFAULT_RELEVANT_TARGET),
             config,
             sim,
             agents,
@@ -193,6 +315,16 @@ impl TeamMission {
             victims_seen: Vec::new(),
             samples: Vec::new(),
             nav_grids: None,
+            plan_grids: [None, None],
+            bid_grid: None,
+            semantic,
+            measures,
+            planner: GridAStar::new(),
+            strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
+            radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
+            assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
+            visited: Vec::new(),
+            time_to_relevant_s: None,
         })
     }
 
@@ -209,21 +341,72 @@ impl TeamMission {
         step.is_multiple_of(n)
     }
 
+    pub fn semantic_map(&self) -> &SemanticMap {
+        &self.semantic
+    }
+
     fn scan_all(&mut self) {
+        let (min_move, min_turn) = (self.config.rescan_distance_m, self.config.rescan_turn_rad);
         for a in &mut self.agents {
-            if self.sim.robot(a.id).failed {
+            let r = self.sim.robot(a.id);
+            if r.failed {
                 continue;
             }
+            if let Some(last) = a.last_scan
+                && last.position().distance(r.pose.position()) < min_move
+                && usar_world::normalize_angle(last.theta - r.pose.theta).abs() < min_turn
+            {
+                continue;
+            }
+            a.last_scan = Some(r.pose);
             self.sim.scan_laser(a.id, &mut a.scan);
             a.map.integrate_scan(&a.scan);
         }
     }
 
+    /// Draws whether each working robot can talk to the base station now.
+    fn update_links(&mut self) {
+        let base = self.sim.scene().start_poses[0].position();
+        let radio = &self.config.radio;
+        for a in &mut self.agents {
+            let r = self.sim.robot(a.id);
+            let in_range = radio
+                .range_m
+                .is_none_or(|range| r.pose.position().distance(base) <= range);
+            let delivered = radio.drop_probability <= 0.0
+                || self.radio_rng.random::<f64>() >= radio.drop_probability;
+            a.linked = !r.failed && in_range && delivered;
+        }
+    }
+
     fn merge(&mut self) {
-        let mut maps: Vec<&mut OccupancyGrid> =
-            self.agents.iter_mut().map(|a| &mut a.map).collect();
+        self.update_links();
+        // With a limited radio the base station merges the copies it last received (a merge
+        // recomputes a tile from every map given, so an unheard robot's copy stands in for it).
+        let mut scratch = Vec::new();
+        for a in &mut self.agents {
+            if let (true, Some(copy)) = (a.linked, a.uploaded.as_mut()) {
+                copy.merge_from(&mut [&mut a.map]);
+                copy.drain_changed(&mut scratch);
+                scratch.clear();
+            }
+        }
+        let mut maps: Vec<&mut OccupancyGrid> = self
+            .agents
+            .iter_mut()
+            .map(|a| a.uploaded.as_mut().unwrap_or(&mut a.map))
+            .collect();
         self.base.merge(&mut maps);
+        self.semantic
+            .update_from(&self.base.merged, self.base.last_changes());
+        if self.time_to_relevant_s.is_none()
+            && self.semantic.relevant_fraction() >= self.relevant_target
+        {
+            self.time_to_relevant_s = Some(self.sim.time_s());
+        }
         self.nav_grids = None;
+        self.plan_grids = [None, None];
+        self.bid_grid = None;
     }
 
     fn read_thermal(&mut self) {
@@ -288,6 +471,9 @@ impl TeamMission {
     /// Reassigns targets to the robots in `who` (all robots at a periodic auction, or those
     /// that reached their target or got stuck).
     fn assign(&mut self, who: &[usize]) -> bool {
+        if self.config.exploration.strategy != Strategy::Nearest {
+            return self.auction(who);
+        }
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
         let merged = &self.base.merged;
@@ -387,21 +573,313 @@ impl TeamMission {
                     agent.escaping = false;
                     agent.may_retrace = true;
                 }
-                None => {
-                    agent.target = None;
-                    agent.follower = PathFollower::default();
-                    if std::mem::take(&mut agent.may_retrace) {
-                        agent.follower = PathFollower::new(retrace(
-                            &agent.trajectory,
-                            self.sim.robot(agent.id).pose.position(),
-                        ));
-                    }
-                    agent.escaping = !agent.follower.is_empty();
-                }
+                None => self.idle(i),
             }
+            let agent = &mut self.agents[i];
             agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
         }
         any
+    }
+
+    /// Robot `i` got nothing: it stops, retracing its way once if it may.
+    fn idle(&mut self, i: usize) {
+        let agent = &mut self.agents[i];
+        agent.target = None;
+        agent.follower = PathFollower::default();
+        if std::mem::take(&mut agent.may_retrace) {
+            agent.follower = PathFollower::new(retrace(
+                &agent.trajectory,
+                self.sim.robot(agent.id).pose.position(),
+            ));
+        }
+        agent.escaping = !agent.follower.is_empty();
+    }
+
+    /// The coarse grid bids are priced on: a cell is passable when any map cell inside it is
+    /// navigable with the tight radius (optimistic, so no doorway closes; the path driven is
+    /// planned on the map itself).
+    fn bid_grid(&mut self) -> NavGrid {
+        if let Some(g) = self.bid_grid.take() {
+            return g;
+        }
+        let k = self.config.exploration.bid_grid_factor as i32;
+        let fine = *self.base.merged.geometry();
+        let coarse = GridGeometry::new(
+            fine.width.div_ceil(k as u32),
+            fine.height.div_ceil(k as u32),
+            fine.resolution_m * f64::from(k),
+            fine.origin,
+        );
+        let (merged, nav) = (&self.base.merged, &self.base.navigable_tight);
+        NavGrid::from_fn(coarse, |c| {
+            for dr in 0..k {
+                for dc in 0..k {
+                    let f = Cell::new(c.col * k + dc, c.row * k + dr);
+                    if let Some(i) = fine.checked_index(f)
+                        && nav.is_navigable(merged, i)
+                    {
+                        return false;
+                    }
+                }
+            }
+            true
+        })
+    }
+
+    /// A path on the map from robot `i` to `goal`: with the full radius if possible, else with
+    /// the tight one. Waypoints from the robot to the goal.
+    fn plan_path(&mut self, i: usize, goal: Cell) -> Option<Vec<Point2>> {
+        let g = *self.base.merged.geometry();
+        let here = self.sim.robot(self.agents[i].id).pose.position();
+        let mut found = None;
+        for radius in 0..2 {
+            // Built on first use after a merge; the tight grid only when the full one fails.
+            if self.plan_grids[radius].is_none() {
+                let merged = &self.base.merged;
+                let nav = [&self.base.navigable, &self.base.navigable_tight][radius];
+                self.plan_grids[radius] =
+                    Some(NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
+            }
+            let mut grid = self.plan_grids[radius].take().expect("built above");
+            let start = self.source_cells(&grid, here, false)[0];
+            let was = (grid.is_passable(start), grid.is_passable(goal));
+            grid.set_passable(start, true);
+            grid.set_passable(goal, true);
+            let path = self.planner.plan(
+                &grid,
+                start,
+                goal,
+                usar_map::planning::Connectivity::Eight,
+            );
+            grid.set_passable(start, was.0);
+            grid.set_passable(goal, was.1);
+            self.plan_grids[radius] = Some(grid);
+            if let Some(p) = path {
+                found = Some(p.cells.iter().map(|&c| g.cell_center(c)).collect());
+                break;
+            }
+        }
+        found
+    }
+
+    /// Paper 002's auction (§3.3) for the robots in `who`: candidates from the frontier
+    /// clusters, each bidding robot's path lengths and times on the coarse bid grid, bids by
+    /// the strategy, allocation by the coordination method (robots not bidding keep their
+    /// targets and count towards i(p)), then a path on the map to each new target.
+    fn auction(&mut self, who: &[usize]) -> bool {
+        let now = self.sim.time_s();
+        let clusters = self.base.clusters(self.config.min_cluster_cells);
+        let g = *self.base.merged.geometry();
+        let cands: Vec<Candidate> = {
+            let merged = &self.base.merged;
+            let nav = &self.base.navigable_tight;
+            candidates(
+                &clusters,
+                |c| {
+                    g.checked_index(c)
+                        .is_some_and(|i| nav.is_navigable(merged, i))
+                },
+                &g,
+            )
+        };
+        // Robots that bid: working and linked. Unlinked robots keep what they do.
+        let bidders: Vec<usize> = who
+            .iter()
+            .copied()
+            .filter(|&i| self.agents[i].linked && !self.sim.robot(self.agents[i].id).failed)
+            .collect();
+        if bidders.is_empty() {
+            return false;
+        }
+        self.visited.retain(|&(_, until)| until > now);
+        let visited: Vec<bool> = cands
+            .iter()
+            .map(|c| self.visited.iter().any(|&(v, _)| v.chebyshev(c.cell) <= VISITED_CELLS))
+            .collect();
+        // What is known of each candidate: room, perceived label, i(p).
+        let rooms: Vec<Option<usize>> = cands
+            .iter()
+            .map(|c| self.room_near(c.cell))
+            .collect();
+        let labels: Vec<Option<RoomLabel>> = rooms
+            .iter()
+            .map(|r| r.map(|k| self.semantic.perceived_label(k)))
+            .collect();
+        let infos: Vec<crate::criteria::CandidateInfo> = cands
+            .iter()
+            .zip(&rooms)
+            .zip(&labels)
+            .map(|((c, r), &label)| crate::criteria::CandidateInfo {
+                position: g.cell_center(c.cell),
+                frontier_cells: c.frontier_cells,
+                label,
+                doors: r.map_or(0, |k| self.semantic.rooms()[k].doors),
+            })
+            .collect();
+        let sr = self.config.exploration.coordination == crate::coordination::Coordination::Sr;
+        let ideal: Vec<usize> = rooms
+            .iter()
+            .zip(&labels)
+            .map(|(r, &label)| {
+                if sr {
+                    return 1;
+                }
+                self.sizer.ideal(
+                    r.map(|k| &self.semantic.rooms()[k]),
+                    label,
+                    r.map_or(0.0, |k| self.semantic.perceived_fraction(k)),
+                )
+            })
+            .collect();
+        // Path lengths and times from each bidder, on the coarse grid.
+        let grid = self.bid_grid();
+        let cg = *grid.geometry();
+        let needs_time = matches!(
+            self.config.exploration.strategy,
+            Strategy::DMcdm | Strategy::SMcdm
+        );
+        let spec = self.config.robot.clone();
+        let mut travel = Vec::with_capacity(bidders.len());
+        let mut positions = Vec::with_capacity(bidders.len());
+        for &i in &bidders {
+            let pose = self.sim.robot(self.agents[i].id).pose;
+            positions.push(pose.position());
+            let agent = &mut self.agents[i];
+            agent.blacklist.retain(|&(_, until)| until > now);
+            let source = nearest_passable(&grid, cg.world_to_cell(pose.position()), 4);
+            agent.field.compute(
+                &grid,
+                &source.into_iter().collect::<Vec<_>>(),
+                usar_map::planning::Connectivity::Eight,
+            );
+            let row: Vec<Option<crate::bids::Travel>> = cands
+                .iter()
+                .zip(&visited)
+                .map(|(c, &visited)| {
+                    if visited || agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
+                        return None;
+                    }
+                    let goal = cg.world_to_cell(g.cell_center(c.cell));
+                    let cells = agent.field.distance_cells(goal)?;
+                    let length_m = cells * cg.resolution_m;
+                    let time_s = if needs_time {
+                        let path = agent.field.path_to_source(goal)?;
+                        grid_travel_time_s(&path.cells, length_m, pose.theta, &spec)
+                    } else {
+                        length_m / spec.max_linear_mps
+                    };
+                    Some(crate::bids::Travel { length_m, time_s })
+                })
+                .collect();
+            travel.push(row);
+        }
+        self.bid_grid = Some(grid);
+        let mut bids = crate::bids::bids(
+            self.config.exploration.strategy,
+            &self.measures,
+            &self.config.exploration.hypothesis,
+            &positions,
+            &infos,
+            &travel,
+            &mut self.strategy_rng,
+        );
+        let bonus = self.config.exploration.commitment_bonus;
+        for (row, &i) in bids.iter_mut().zip(&bidders) {
+            if let Some(t) = self.agents[i].target
+                && let Some((k, _)) = nearest_candidate(&cands, t)
+                && let Some(u) = row[k].as_mut()
+            {
+                *u += bonus;
+            }
+        }
+        // Robots keeping their targets occupy the candidate nearest to each target.
+        let mut already = vec![0usize; cands.len()];
+        for (j, a) in self.agents.iter().enumerate() {
+            if who.contains(&j) || self.sim.robot(a.id).failed {
+                continue;
+            }
+            if let Some(t) = a.target
+                && let Some((k, _)) = nearest_candidate(&cands, t)
+            {
+                already[k] += 1;
+            }
+        }
+        let x = &self.config.exploration;
+        let chosen = crate::coordination::allocate_among(
+            &bids,
+            &ideal,
+            &already,
+            x.coordination,
+            x.discount,
+        );
+        let mut any = false;
+        for (k, &i) in bidders.iter().enumerate() {
+            match chosen[k] {
+                Some(c) => {
+                    let target = cands[c].cell;
+                    let agent = &self.agents[i];
+                    if agent
+                        .target
+                        .is_some_and(|t| t.chebyshev(target) <= KEPT_TARGET_CELLS)
+                        && !agent.follower.is_empty()
+                    {
+                        any = true;
+                        continue;
+                    }
+                    match self.plan_path(i, target) {
+                        Some(waypoints) => {
+                            any = true;
+                            let label = self.semantic.room_of(g.index(target)).or(rooms[c]);
+                            if let Some(k) = label {
+                                *self
+                                    .assigned_per_label
+                                    .entry(self.semantic.rooms()[k].label)
+                                    .or_default() += 1;
+                            }
+                            if std::env::var_os("USAR_TEAM_TRACE").is_some() {
+                                let r = self.sim.robot(self.agents[i].id);
+                                eprintln!(
+                                    "t={now:.1} robot {i} at ({:.1},{:.1}) -> ({:.1},{:.1}) {:?} u={:.3} A={} path={} wp contact={}",
+                                    r.pose.x, r.pose.y,
+                                    g.cell_center(target).x, g.cell_center(target).y,
+                                    labels[c], bids[k][c].unwrap_or(-1.0), cands[c].frontier_cells,
+                                    waypoints.len(), r.in_contact()
+                                );
+                            }
+                            let agent = &mut self.agents[i];
+                            agent.follower = PathFollower::new(waypoints);
+                            agent.target = Some(target);
+                            agent.recoveries = 0;
+                            agent.escaping = false;
+                            agent.may_retrace = true;
+                        }
+                        None => {
+                            self.agents[i].blacklist.push((target, now + BLACKLIST_S));
+                            self.idle(i);
+                        }
+                    }
+                }
+                None => self.idle(i),
+            }
+            let agent = &mut self.agents[i];
+            agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
+        }
+        any
+    }
+
+    /// The room of a map cell, or of the nearest cell within two cells that has one (a
+    /// candidate may stand in a doorway's wall gap).
+    fn room_near(&self, cell: Cell) -> Option<usize> {
+        let g = self.base.merged.geometry();
+        (0..=2).find_map(|r: i32| {
+            (-r..=r)
+                .flat_map(|dr| (-r..=r).map(move |dc| (dc, dr)))
+                .filter(|&(dc, dr)| dc.abs().max(dr.abs()) == r)
+                .find_map(|(dc, dr)| {
+                    let i = g.checked_index(Cell::new(cell.col + dc, cell.row + dr))?;
+                    self.semantic.room_of(i)
+                })
+        })
     }
 
     /// Whether coverage grew by less than [`TeamConfig::stall_growth`] over the last
@@ -427,6 +905,8 @@ impl TeamMission {
             explored_area_m2: self.base.merged.known_area_m2(),
             victims_seen: self.victims_seen.len(),
             distance_m: self.sim.robots().iter().map(|r| r.distance_m).sum(),
+            relevant_area_m2: self.semantic.relevant_area_m2(),
+            assigned_per_label: self.assigned_per_label.clone(),
         });
     }
 
@@ -448,6 +928,17 @@ impl TeamMission {
         while finish == Finish::TimeLimit && step < steps {
             step += 1;
             let now = self.sim.time_s();
+            for f in &self.config.failures {
+                let id = self.agents[f.robot].id;
+                if f.at_s <= now && !self.sim.robot(id).failed {
+                    self.sim.fail_robot(id);
+                    let a = &mut self.agents[f.robot];
+                    a.target = None;
+                    a.follower = PathFollower::default();
+                    a.escaping = false;
+                    a.recovery = None;
+                }
+            }
             let mut replan = Vec::new();
             let commands: Vec<Velocity> = self
                 .agents
@@ -514,6 +1005,7 @@ impl TeamMission {
             }
             // Who needs a new target: reached it, has none, made no progress, or recovered.
             let mut who = replan;
+            let auctioned = self.config.exploration.strategy != Strategy::Nearest;
             for (i, a) in self.agents.iter_mut().enumerate() {
                 let r = self.sim.robot(a.id);
                 if r.failed || a.recovery.is_some() || who.contains(&i) {
@@ -542,6 +1034,9 @@ impl TeamMission {
                     // A frontier that did not resolve on arrival (it lies behind something the
                     // laser cannot see past) is left alone for a while.
                     a.blacklist.push((reached, now + REACHED_BLACKLIST_S));
+                    if auctioned {
+                        self.visited.push((reached, now + VISITED_BLACKLIST_S));
+                    }
                     a.target = None;
                     who.push(i);
                 } else if done && merged_now {
@@ -578,6 +1073,12 @@ impl TeamMission {
                 && self.base.coverage.coverage() >= target
             {
                 finish = Finish::CoverageTarget;
+            }
+            if self.config.stop_at_relevant.is_some()
+                && merged_now
+                && self.time_to_relevant_s.is_some()
+            {
+                finish = Finish::RelevantTarget;
             }
         }
         self.merge();
@@ -624,9 +1125,72 @@ impl TeamMission {
                 })
                 .collect(),
             series: self.samples,
+            relevant_area_m2: self.semantic.relevant_area_m2(),
+            relevant_total_m2: self.semantic.relevant_total_m2(),
+            time_to_relevant_s: self.time_to_relevant_s,
+            relevant_target: self.relevant_target,
+            assigned_per_label: self.assigned_per_label,
             merged_map: self.base.merged,
         }
     }
+}
+
+/// b(p, r) on a grid path given from the goal back to the robot (`cells`, as a distance field's
+/// descent returns it) of `length_m`: length / v + Σ|turns| / ω, the turns being the robot's
+/// turn onto the first step and the 45° multiples between consecutive steps — what
+/// [`crate::criteria::travel_time_s`] gives on the cell centres, without a trigonometric call
+/// per step.
+fn grid_travel_time_s(cells: &[Cell], length_m: f64, theta: f64, spec: &usar_sim::RobotSpec) -> f64 {
+    let step_dir = |a: Cell, b: Cell| -> usize {
+        usar_world::NEIGHBORS8
+            .iter()
+            .position(|&(dc, dr)| (b.col - a.col, b.row - a.row) == (dc, dr))
+            .map_or(0, |k| DIRECTION_OCTANT[k])
+    };
+    let mut turning = 0.0;
+    let mut previous: Option<usize> = None;
+    for w in cells.windows(2).rev() {
+        // Walking from the robot (end of `cells`) towards the goal.
+        let d = step_dir(w[1], w[0]);
+        match previous {
+            None => {
+                let heading = d as f64 * std::f64::consts::FRAC_PI_4;
+                turning += usar_world::normalize_angle(heading - theta).abs();
+            }
+            Some(p) => {
+                let k = (d + 8 - p) % 8;
+                turning += k.min(8 - k) as f64 * std::f64::consts::FRAC_PI_4;
+            }
+        }
+        previous = Some(d);
+    }
+    length_m / spec.max_linear_mps + turning / spec.max_angular_radps
+}
+
+/// The octant (0 = east, counter-clockwise in 45° steps) of each move of
+/// [`usar_world::NEIGHBORS8`] (east, north, west, south, north-east, north-west, south-west,
+/// south-east).
+const DIRECTION_OCTANT: [usize; 8] = [0, 2, 4, 6, 1, 3, 5, 7];
+
+/// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
+fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
+    cands
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (k, c.cell.chebyshev(target)))
+        .filter(|&(_, d)| d <= KEPT_TARGET_CELLS)
+        .min_by_key(|&(k, d)| (d, k))
+}
+
+/// The passable cell nearest `c` (Chebyshev rings up to `reach`), if any.
+fn nearest_passable(grid: &NavGrid, c: Cell, reach: i32) -> Option<Cell> {
+    (0..=reach).find_map(|r| {
+        (-r..=r)
+            .flat_map(|dr| (-r..=r).map(move |dc| (dc, dr)))
+            .filter(|&(dc, dr)| dc.abs().max(dr.abs()) == r)
+            .map(|(dc, dr)| Cell::new(c.col + dc, c.row + dr))
+            .find(|&n| grid.is_passable(n))
+    })
 }
 
 /// The way back along a trajectory: its points from the latest backwards, until [`RETRACE_M`]

@@ -2,7 +2,8 @@
 
 use serde::Serialize;
 use usar_map::OccupancyGrid;
-use usar_world::Point2;
+use std::collections::BTreeMap;
+use usar_world::{Point2, RoomLabel};
 
 /// Why the mission ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -12,6 +13,8 @@ pub enum Finish {
     Explored,
     /// The configured coverage was reached.
     CoverageTarget,
+    /// The configured fraction of the relevant area was reached (paper 002 §4.4).
+    RelevantTarget,
     /// Coverage stopped growing (frontiers were left that no robot could resolve).
     Stalled,
     /// The simulated time ran out.
@@ -25,6 +28,10 @@ pub struct Sample {
     pub explored_area_m2: f64,
     pub victims_seen: usize,
     pub distance_m: f64,
+    /// Explored relevant area (free floor of the rooms the hypothesis makes relevant), m².
+    pub relevant_area_m2: f64,
+    /// Candidate locations assigned so far, by the true label of their room.
+    pub assigned_per_label: BTreeMap<RoomLabel, u32>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -62,6 +69,14 @@ pub struct TeamOutcome {
     pub collisions: u32,
     pub per_robot: Vec<RobotOutcome>,
     pub series: Vec<Sample>,
+    /// Explored relevant area at the end, m², and the relevant area there is.
+    pub relevant_area_m2: f64,
+    pub relevant_total_m2: f64,
+    /// When the known fraction of the relevant area first reached `relevant_target` (checked
+    /// at each merge), simulated seconds.
+    pub time_to_relevant_s: Option<f64>,
+    pub relevant_target: f64,
+    pub assigned_per_label: BTreeMap<RoomLabel, u32>,
     #[serde(skip)]
     pub merged_map: OccupancyGrid,
 }

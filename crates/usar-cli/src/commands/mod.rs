@@ -9,6 +9,7 @@ mod explore;
 mod maxq;
 mod plan;
 mod scene;
+mod team;
 
 use crate::cli::{Cli, Command};
 use crate::failure::CmdResult;
@@ -18,6 +19,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Scene(cmd) => scene::run(cmd),
         Command::Plan(args) => plan::run(args),
         Command::Explore(args) => explore::run(args),
+        Command::Team(cmd) => team::run(cmd),
         Command::Demo(args) => demo::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Campaign(cmd) => campaign::run(cmd),

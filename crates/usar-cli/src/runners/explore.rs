@@ -24,26 +24,7 @@ impl ExploreRunner {
     }
 
     fn scene(&self, config: &Config) -> Result<Arc<Scene>, String> {
-        let name = config.text("scene").unwrap_or("office").to_string();
-        let seed = config.int("scene_seed").unwrap_or(1) as u64;
-        let key = (name.clone(), seed);
-        if let Some(s) = self.scenes.lock().expect("scene cache").get(&key) {
-            return Ok(s.clone());
-        }
-        let image = ImageArgs {
-            resolution: None,
-            negate: false,
-            occupied_thresh: 0.65,
-            free_thresh: 0.196,
-        };
-        let scene = Arc::new(
-            scene_source::load(&name, seed, &image).map_err(|f| format!("{:#}", f.error))?,
-        );
-        self.scenes
-            .lock()
-            .expect("scene cache")
-            .insert(key, scene.clone());
-        Ok(scene)
+        scene_for(&self.scenes, config)
     }
 
     fn team_config(config: &Config) -> Result<TeamConfig, String> {
@@ -62,7 +43,30 @@ impl ExploreRunner {
     }
 }
 
-fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpec {
+/// The scene a configuration names (`scene`, `scene_seed`), from `cache` or loaded into it.
+pub(super) fn scene_for(
+    cache: &Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
+    config: &Config,
+) -> Result<Arc<Scene>, String> {
+    let name = config.text("scene").unwrap_or("office").to_string();
+    let seed = config.int("scene_seed").unwrap_or(1) as u64;
+    let key = (name.clone(), seed);
+    if let Some(s) = cache.lock().expect("scene cache").get(&key) {
+        return Ok(s.clone());
+    }
+    let image = ImageArgs {
+        resolution: None,
+        negate: false,
+        occupied_thresh: 0.65,
+        free_thresh: 0.196,
+    };
+    let scene =
+        Arc::new(scene_source::load(&name, seed, &image).map_err(|f| format!("{:#}", f.error))?);
+    cache.lock().expect("scene cache").insert(key, scene.clone());
+    Ok(scene)
+}
+
+pub(super) fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpec {
     FactorSpec {
         name: name.into(),
         kind,
@@ -71,7 +75,7 @@ fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpe
     }
 }
 
-fn metric(name: &str, help: &str) -> MetricSpec {
+pub(super) fn metric(name: &str, help: &str) -> MetricSpec {
     MetricSpec {
         name: name.into(),
         help: help.into(),

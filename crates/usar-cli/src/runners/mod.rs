@@ -2,14 +2,16 @@
 //! [`usar_campaign::Runner`].
 
 mod explore;
+mod team;
 
 use usar_campaign::Runner;
 
 static EXPLORE: explore::ExploreRunner = explore::ExploreRunner::new();
+static TEAM: team::TeamRunner = team::TeamRunner::new();
 
 /// Every runner, by the name campaign files use.
-pub fn all() -> [&'static dyn Runner; 1] {
-    [&EXPLORE]
+pub fn all() -> [&'static dyn Runner; 2] {
+    [&EXPLORE, &TEAM]
 }
 
 /// The runner a campaign names, if there is one.

@@ -1,0 +1,89 @@
+//! `usar team run`: one run of paper 002's semantically-informed exploration.
+
+use super::print_json;
+use crate::cli::{TeamCommand, TeamRunArgs};
+use crate::failure::{CmdResult, InputContext, bad_input};
+use crate::team_setup::{TeamSetup, parse_failure};
+use crate::{progress, scene_source};
+use std::sync::Arc;
+use usar_team::paper_run::RunSummary;
+use usar_team::{Radio, TeamMission};
+
+pub fn run(cmd: TeamCommand) -> CmdResult {
+    match cmd {
+        TeamCommand::Run(args) => run_one(args),
+    }
+}
+
+fn run_one(args: TeamRunArgs) -> CmdResult {
+    let failures = args
+        .failures
+        .iter()
+        .map(|f| parse_failure(f))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| bad_input(anyhow::anyhow!(e)))?;
+    let setup = TeamSetup {
+        robots: args.robots,
+        robot: &args.robot,
+        strategy: &args.strategy,
+        coordination: &args.coordination,
+        hypothesis: &args.hypothesis,
+        minutes: args.minutes,
+        label_errors: &args.label_errors,
+        stop_at_relevant: args.stop_at_relevant,
+        merge_period_s: args.merge_period,
+        radio: Radio {
+            range_m: args.radio_range,
+            drop_probability: args.radio_drop,
+        },
+        failures,
+    };
+    let config = setup
+        .config()
+        .map_err(|e| bad_input(anyhow::anyhow!("--{e}")))?;
+    let scene = Arc::new(scene_source::load(&args.scene, args.scene_seed, &args.image)?);
+    if scene.rooms.is_empty() {
+        return Err(bad_input(anyhow::anyhow!(
+            "{}: the scene has no room layer (no labelled rooms); paper 002's relevant area needs one",
+            args.scene
+        )));
+    }
+    let total = config.duration_s;
+    let mission = TeamMission::new(scene, config, args.seed).input()?;
+    let bar = progress::bar(total.round() as u64, "exploring", args.json);
+    let outcome = mission.run(|t| bar.set_position(t.round() as u64));
+    bar.finish_and_clear();
+    let summary = RunSummary::new(
+        &outcome,
+        &args.strategy,
+        &args.coordination,
+        &args.hypothesis,
+        args.seed,
+    );
+    if args.json {
+        return print_json(&summary);
+    }
+    println!(
+        "{}: {} robots, {} + {}, victims in {} rooms, {:.0} s: relevant area {:.0} of {:.0} m², total area {:.0} m², {:.0} m travelled{} ({:?})",
+        summary.scene,
+        summary.robots,
+        summary.strategy,
+        summary.coordination,
+        summary.hypothesis,
+        summary.time_s,
+        summary.relevant_area_m2,
+        summary.relevant_total_m2,
+        summary.total_area_m2,
+        summary.distance_m,
+        summary
+            .time_to_relevant_s
+            .map(|t| format!(
+                ", {:.0} % of the relevant area at {:.1} min",
+                summary.relevant_target * 100.0,
+                t / 60.0
+            ))
+            .unwrap_or_default(),
+        summary.finish,
+    );
+    Ok(())
+}

@@ -1,0 +1,229 @@
+//! Runner `team`: paper 002's semantically-informed exploration (one `usar team run`).
+
+use super::explore::{factor, metric, scene_for};
+use crate::team_setup::TeamSetup;
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
+use usar_campaign::{
+    Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
+};
+use usar_team::paper_run::RunSummary;
+use usar_team::{Radio, TeamMission};
+use usar_world::{RoomLabel, Scene};
+
+pub struct TeamRunner {
+    /// Scenes by (scene, scene_seed): generated or read once per campaign.
+    scenes: Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
+}
+
+/// The label names of the `assigned_*` metrics.
+const LABELS: [(RoomLabel, &str); 4] = [
+    (RoomLabel::Corridor, "corridor"),
+    (RoomLabel::SmallRoom, "small_room"),
+    (RoomLabel::MediumRoom, "medium_room"),
+    (RoomLabel::BigRoom, "big_room"),
+];
+
+impl TeamRunner {
+    pub const fn new() -> Self {
+        Self {
+            scenes: Mutex::new(BTreeMap::new()),
+        }
+    }
+
+    fn setup(config: &Config) -> TeamSetup<'_> {
+        let range = config.float("radio_range_m").unwrap_or(0.0);
+        TeamSetup {
+            robots: config.int("robots").unwrap_or(6) as usize,
+            robot: config.text("robot").unwrap_or("wheeled"),
+            strategy: config.text("strategy").unwrap_or("s-mcdm"),
+            coordination: config.text("coordination").unwrap_or("sr"),
+            hypothesis: config.text("hypothesis").unwrap_or("big"),
+            minutes: config.float("minutes").unwrap_or(20.0),
+            label_errors: config.text("label_errors").unwrap_or("perfect"),
+            stop_at_relevant: config
+                .float("stop_at_relevant")
+                .filter(|&f| f > 0.0),
+            merge_period_s: config.float("merge_period_s").unwrap_or(2.5),
+            radio: Radio {
+                range_m: (range > 0.0).then_some(range),
+                drop_probability: config.float("radio_drop").unwrap_or(0.0),
+            },
+            failures: Vec::new(),
+        }
+    }
+}
+
+impl Runner for TeamRunner {
+    fn name(&self) -> &str {
+        "team"
+    }
+
+    fn factors(&self) -> Vec<FactorSpec> {
+        let text = |name: &str, default: &str, choices: &[&str], help: &str| {
+            factor(
+                name,
+                FactorKind::Text {
+                    choices: choices.iter().map(|c| c.to_string()).collect(),
+                },
+                Level::Text(default.into()),
+                help,
+            )
+        };
+        let float = |name: &str, default: f64, max: f64, help: &str| {
+            factor(
+                name,
+                FactorKind::Float { min: 0.0, max },
+                Level::Float(default),
+                help,
+            )
+        };
+        vec![
+            text(
+                "scene",
+                "office",
+                &[],
+                "office or mall (generated with scene_seed), or a scene file with a room layer",
+            ),
+            factor(
+                "scene_seed",
+                FactorKind::Int {
+                    min: 0,
+                    max: i64::MAX,
+                },
+                Level::Int(1),
+                "seed of the generated floor",
+            ),
+            factor(
+                "robots",
+                FactorKind::Int { min: 1, max: 64 },
+                Level::Int(6),
+                "team size",
+            ),
+            text("robot", "wheeled", &[], "robot model: crawler, wheeled or a TOML file"),
+            text(
+                "strategy",
+                "s-mcdm",
+                &["random", "distance", "d-mcdm", "s-mcdm", "nearest"],
+                "exploration strategy",
+            ),
+            text("coordination", "sr", &["sr", "mrv1", "mrv2"], "coordination method"),
+            text("hypothesis", "big", &["big", "small"], "victims in big or small rooms"),
+            text(
+                "label_errors",
+                "perfect",
+                &[],
+                "perfect, random:RATE or until-known:FRACTION (paper 002 §4.4)",
+            ),
+            float("minutes", 20.0, 1440.0, "simulated time limit"),
+            float(
+                "stop_at_relevant",
+                0.0,
+                1.0,
+                "stop at this known fraction of the relevant area (0: run to the limit)",
+            ),
+            float("merge_period_s", 2.5, 600.0, "map merge period at the base station"),
+            float("radio_range_m", 0.0, 1e6, "radio range from the base station (0: unlimited)"),
+            float("radio_drop", 0.0, 1.0, "probability that an exchange is lost"),
+        ]
+    }
+
+    fn metrics(&self) -> Vec<MetricSpec> {
+        let mut m = vec![
+            metric("relevant_area_m2", "explored relevant area at the end"),
+            metric("total_area_m2", "explored area at the end"),
+            metric("distance_m", "distance travelled by the whole team"),
+            metric(
+                "time_to_relevant_s",
+                "when the relevant-area target (stop_at_relevant, else 0.9) was reached; the run's end if never",
+            ),
+            metric("relevant_fraction", "explored fraction of the relevant area"),
+            metric("time_s", "simulated time at the end"),
+            metric("collisions", "collisions of the whole team"),
+        ];
+        for (_, name) in LABELS {
+            m.push(MetricSpec {
+                name: format!("assigned_{name}"),
+                help: format!("candidate locations assigned in {name}s"),
+            });
+        }
+        m
+    }
+
+    fn series_x(&self) -> &str {
+        "time (s)"
+    }
+
+    fn check(&self, config: &Config) -> Result<(), String> {
+        let scene = scene_for(&self.scenes, config)?;
+        let team = Self::setup(config).config()?;
+        if scene.start_poses.len() < team.robots {
+            return Err(format!(
+                "scene {} has {} start poses, robots = {}",
+                scene.name,
+                scene.start_poses.len(),
+                team.robots
+            ));
+        }
+        if scene.rooms.is_empty() {
+            return Err(format!("scene {} has no room layer", scene.name));
+        }
+        Ok(())
+    }
+
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
+        let scene = scene_for(&self.scenes, config)?;
+        let setup = Self::setup(config);
+        let team = setup.config()?;
+        let outcome = TeamMission::new(scene, team, seed)
+            .map_err(|e| e.to_string())?
+            .run(|_| {});
+        let s = RunSummary::new(
+            &outcome,
+            setup.strategy,
+            setup.coordination,
+            setup.hypothesis,
+            seed,
+        );
+        let assigned = |m: &BTreeMap<RoomLabel, u32>, l: RoomLabel| {
+            f64::from(m.get(&l).copied().unwrap_or(0))
+        };
+        let mut metrics = BTreeMap::from([
+            ("relevant_area_m2".to_string(), s.relevant_area_m2),
+            ("total_area_m2".to_string(), s.total_area_m2),
+            ("distance_m".to_string(), s.distance_m),
+            (
+                "time_to_relevant_s".to_string(),
+                s.time_to_relevant_s.unwrap_or(s.time_s),
+            ),
+            (
+                "relevant_fraction".to_string(),
+                s.relevant_area_m2 / s.relevant_total_m2.max(1e-9),
+            ),
+            ("time_s".to_string(), s.time_s),
+            ("collisions".to_string(), f64::from(s.collisions)),
+        ]);
+        for (l, name) in LABELS {
+            metrics.insert(format!("assigned_{name}"), assigned(&s.assigned_per_label, l));
+        }
+        let series = s
+            .series
+            .iter()
+            .map(|p| {
+                let mut values = BTreeMap::from([
+                    ("relevant_area_m2".to_string(), p.relevant_area_m2),
+                    ("total_area_m2".to_string(), p.total_area_m2),
+                    ("distance_m".to_string(), p.distance_m),
+                ]);
+                for (l, name) in LABELS {
+                    values.insert(format!("assigned_{name}"), assigned(&p.assigned_per_label, l));
+                }
+                SeriesPoint {
+                    x: (p.time_s * 1e3).round() / 1e3,
+                    values,
+                }
+            })
+            .collect();
+        Ok(RunOutput { metrics, series })
+    }
+}
