@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use usar_maxq::{Hierarchy, NodeKind};
 use usar_rescue::evaluation::{EvalConfig, evaluate};
 use usar_rescue::exploration::{Direction, ExplorationWeights, region_of};
-use usar_rescue::hierarchy::{self, RescueHierarchy, action};
+use usar_rescue::hierarchy::{self, action};
 use usar_rescue::operator::{OperatorProfile, SimulatedOperator};
 use usar_rescue::policy::{PolicyFile, TrainingInfo};
 use usar_rescue::training::{TrainConfig, train};

@@ -228,7 +228,7 @@ impl TeamMission {
             )));
         }
         if let Some(r) = config.radio.range_m
-            && !(r > 0.0)
+            && !(r.is_finite() && r > 0.0)
         {
             return Err(MissionError::Config(format!(
                 "radio range: found {r} m, expected a positive distance"
