@@ -145,7 +145,8 @@ impl SparseFlatQ {
         let row = *self.rows_unsorted.entry(key).or_insert(next) as usize;
         if row == next as usize {
             self.values.extend(std::iter::repeat_n(0.0, self.actions));
-            self.written.extend(std::iter::repeat_n(false, self.actions));
+            self.written
+                .extend(std::iter::repeat_n(false, self.actions));
         }
         row
     }

@@ -373,10 +373,7 @@ impl MaxqQ {
         let epsilon = self.params.epsilon.at(self.steps);
         if rng.random::<f64>() < epsilon {
             let children = self.children(i);
-            let eligible = children
-                .iter()
-                .filter(|&&a| self.eligible(h, a, s))
-                .count();
+            let eligible = children.iter().filter(|&&a| self.eligible(h, a, s)).count();
             if eligible == 0 {
                 return None;
             }

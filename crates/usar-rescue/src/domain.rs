@@ -76,9 +76,8 @@ impl RescueScene {
     pub fn reachable(&self, start: Cell) -> (Vec<bool>, Vec<u32>) {
         let view = &self.view;
         let mut mask = vec![false; view.classes.len()];
-        let passable = |i: usize| {
-            view.terrain_classes[i].is_passable_terrain(true) && !self.victim_cell[i]
-        };
+        let passable =
+            |i: usize| view.terrain_classes[i].is_passable_terrain(true) && !self.victim_cell[i];
         let Some(s) = view.index(start).filter(|&s| passable(s)) else {
             return (mask, Vec::new());
         };
@@ -238,8 +237,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         };
         let i = d.index(start.0);
         d.map.cells[i] = MapCell::OpenVisited.visited_on(view.terrain_classes[i]);
-        d.explorer
-            .cell_changed(&d.map, start.0.col, start.0.row);
+        d.explorer.cell_changed(&d.map, start.0.col, start.0.row);
         d.perceive();
         d.replan();
         d
@@ -276,17 +274,24 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 MapCell::NonClimbable | MapCell::Victim => 3,
             }
         };
-        let (front, left, back, right) = (category(rel(0)), category(rel(1)), category(rel(2)), category(rel(3)));
+        let (front, left, back, right) = (
+            category(rel(0)),
+            category(rel(1)),
+            category(rel(2)),
+            category(rel(3)),
+        );
         let heading_rel = heading.map_or(0, |d| (d.index() + 4 - h) % 4);
         let victim_mode = usize::from(victim != VictimStatus::None);
-        let ng = ((((front * 4 + left) * 4 + right) * 4 + back) * 4 + heading_rel) * 2 + victim_mode;
+        let ng =
+            ((((front * 4 + left) * 4 + right) * 4 + back) * 4 + heading_rel) * 2 + victim_mode;
         let forward = front * 2 + usize::from(heading.is_some() && heading_rel == 0);
         let backward = back * 2 + usize::from(heading.is_some() && heading_rel == 2);
         let (dc, dr) = rel(0).step();
-        let ahead = self.map.index(self.robot.cell.col + dc, self.robot.cell.row + dr);
-        let rotate = usize::from(
-            self.facing_obstacle_after_move && ahead.is_some_and(|i| !self.avoided[i]),
-        );
+        let ahead = self
+            .map
+            .index(self.robot.cell.col + dc, self.robot.cell.row + dr);
+        let rotate =
+            usize::from(self.facing_obstacle_after_move && ahead.is_some_and(|i| !self.avoided[i]));
         RescueState::new(
             self.stuck,
             self.guidance.heading.is_some(),
@@ -331,7 +336,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         let heading = self.heading();
         let (dc, dr) = heading.step();
         let (ac, ar) = (cell.col + dc, cell.row + dr);
-        if let Some(class) = self.perception.front(&scene.scene, &scene.view, cell, heading)
+        if let Some(class) = self
+            .perception
+            .front(&scene.scene, &scene.view, cell, heading)
             && let Some(i) = self.map.index(ac, ar)
             && self.map.cells[i].is_unclassified()
         {
@@ -343,13 +350,18 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             self.explorer.cell_changed(&self.map, ac, ar);
             self.progress += 1;
         }
-        let infrared = self.perception.infrared(&scene.scene, &scene.view, cell, heading);
+        let infrared = self
+            .perception
+            .infrared(&scene.scene, &scene.view, cell, heading);
         let (lc, lr) = Direction::from_index(heading.index() + 1).step();
         for (k, &(fwd, left)) in INFRARED_NEIGHBOURS.iter().enumerate() {
             if infrared & (1 << k) == 0 {
                 continue;
             }
-            let (c, r) = (cell.col + fwd * dc + left * lc, cell.row + fwd * dr + left * lr);
+            let (c, r) = (
+                cell.col + fwd * dc + left * lc,
+                cell.row + fwd * dr + left * lr,
+            );
             if let Some(i) = self.map.index(c, r)
                 && self.map.cells[i] == MapCell::Unknown
             {
@@ -357,7 +369,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 self.explorer.cell_changed(&self.map, c, r);
             }
         }
-        let heat = self.perception.heat(&scene.scene, &scene.view, cell, heading);
+        let heat = self
+            .perception
+            .heat(&scene.scene, &scene.view, cell, heading);
         for h in heat {
             if !h.human_signature || self.victims.iter().any(|v| v.cell == h.cell) {
                 continue;
@@ -403,9 +417,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             if v.status != Status::Pending {
                 continue;
             }
-            if let Some((dir, d)) =
-                self.explorer
-                    .toward_victim(&self.map, c.col, c.row, v.cell.0, v.cell.1)
+            if let Some((dir, d)) = self
+                .explorer
+                .toward_victim(&self.map, c.col, c.row, v.cell.0, v.cell.1)
                 && best.is_none_or(|(bd, _, _)| d < bd)
             {
                 best = Some((d, k, Some(dir)));
@@ -487,7 +501,13 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         let outcome = self.robot.apply_with(
             act,
             &scene.view,
-            |c| c.col >= 0 && c.row >= 0 && c.col < w && c.row < h && victim_cell[(c.row * cols + c.col) as usize],
+            |c| {
+                c.col >= 0
+                    && c.row >= 0
+                    && c.col < w
+                    && c.row < h
+                    && victim_cell[(c.row * cols + c.col) as usize]
+            },
             |_| rng.random::<f64>() < slip,
         );
         let reward = match outcome {
@@ -542,7 +562,10 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 }
             }
             CellOutcome::Rotated => {
-                if came_against_obstacle && let Some(i) = ahead && !self.avoided[i] {
+                if came_against_obstacle
+                    && let Some(i) = ahead
+                    && !self.avoided[i]
+                {
                     self.avoided[i] = true;
                     rewards::OBSTACLE_AVOIDED
                 } else {
@@ -706,9 +729,8 @@ impl MapCell {
     /// The visited category of a cell the robot stands on, from the terrain it feels.
     pub fn visited_on(self, terrain: CellClass) -> MapCell {
         match (self, terrain) {
-            (MapCell::ClimbableUnvisited | MapCell::ClimbableVisited, _) | (_, CellClass::Climbable) => {
-                MapCell::ClimbableVisited
-            }
+            (MapCell::ClimbableUnvisited | MapCell::ClimbableVisited, _)
+            | (_, CellClass::Climbable) => MapCell::ClimbableVisited,
             _ => MapCell::OpenVisited,
         }
     }

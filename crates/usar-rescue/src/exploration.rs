@@ -359,7 +359,8 @@ impl Explorer {
         }
         let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         if cell.is_unclassified() {
-            self.stand_for(map, col, row).map(|(s, _)| self.distance[s] + 1)
+            self.stand_for(map, col, row)
+                .map(|(s, _)| self.distance[s] + 1)
         } else {
             (self.distance[i] != u32::MAX).then_some(self.distance[i])
         }
@@ -446,7 +447,14 @@ impl Explorer {
     /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
     /// that path's length; `None` when no such cell is reachable. Uses the distances of the
     /// last [`Explorer::guide`] (call it first).
-    pub fn toward_victim(&self, map: &CellMap, rc: i32, rr: i32, vc: i32, vr: i32) -> Option<(Direction, u32)> {
+    pub fn toward_victim(
+        &self,
+        map: &CellMap,
+        rc: i32,
+        rr: i32,
+        vc: i32,
+        vr: i32,
+    ) -> Option<(Direction, u32)> {
         let robot = map.index(rc, rr)?;
         let (stand, face) = self.stand_for(map, vc, vr)?;
         let d = self.distance[stand];

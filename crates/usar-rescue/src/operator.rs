@@ -127,15 +127,12 @@ impl SimulatedOperator {
             let (class, victim) = request.camera[d.index()];
             class.is_passable_terrain(true) && !victim
         };
-        let want = request
-            .suggested
-            .filter(|&d| free(d))
-            .or_else(|| {
-                Direction::ALL
-                    .into_iter()
-                    .filter(|&d| free(d))
-                    .min_by_key(|d| request.neighbours[d.index()].is_visited())
-            });
+        let want = request.suggested.filter(|&d| free(d)).or_else(|| {
+            Direction::ALL
+                .into_iter()
+                .filter(|&d| free(d))
+                .min_by_key(|d| request.neighbours[d.index()].is_visited())
+        });
         let Some(want) = want else {
             return CellAction::RotateLeft;
         };

@@ -110,7 +110,13 @@ impl Perception {
         }
     }
 
-    fn reading(&mut self, scene: &Scene, view: &CellView, cell: Cell, heading: Direction) -> &Reading {
+    fn reading(
+        &mut self,
+        scene: &Scene,
+        view: &CellView,
+        cell: Cell,
+        heading: Direction,
+    ) -> &Reading {
         let key = ((cell.row * self.cols + cell.col) as usize) * 4 + heading.index();
         if self.readings[key].is_none() {
             let r = self.sense(scene, view, cell, heading);
@@ -120,24 +126,46 @@ impl Perception {
     }
 
     /// The class of the cell ahead as D_xy shows it.
-    pub fn front(&mut self, scene: &Scene, view: &CellView, cell: Cell, heading: Direction) -> Option<CellClass> {
+    pub fn front(
+        &mut self,
+        scene: &Scene,
+        view: &CellView,
+        cell: Cell,
+        heading: Direction,
+    ) -> Option<CellClass> {
         self.reading(scene, view, cell, heading).front
     }
 
     /// Infrared hits as a bit mask over [`INFRARED_NEIGHBOURS`].
-    pub fn infrared(&mut self, scene: &Scene, view: &CellView, cell: Cell, heading: Direction) -> u8 {
+    pub fn infrared(
+        &mut self,
+        scene: &Scene,
+        view: &CellView,
+        cell: Cell,
+        heading: Direction,
+    ) -> u8 {
         self.reading(scene, view, cell, heading).infrared
     }
 
     /// Heat regions seen.
-    pub fn heat(&mut self, scene: &Scene, view: &CellView, cell: Cell, heading: Direction) -> &[HeatReading] {
+    pub fn heat(
+        &mut self,
+        scene: &Scene,
+        view: &CellView,
+        cell: Cell,
+        heading: Direction,
+    ) -> &[HeatReading] {
         let range = self.reading(scene, view, cell, heading).heat.clone();
         &self.heat[range.start as usize..range.end as usize]
     }
 
     fn pose(view: &CellView, cell: Cell, heading: Direction) -> Pose2 {
         let c = view.cell_center(cell);
-        Pose2::new(c.x, c.y, heading.index() as f64 * std::f64::consts::FRAC_PI_2)
+        Pose2::new(
+            c.x,
+            c.y,
+            heading.index() as f64 * std::f64::consts::FRAC_PI_2,
+        )
     }
 
     fn sense(&mut self, scene: &Scene, view: &CellView, cell: Cell, heading: Direction) -> Reading {
@@ -153,13 +181,25 @@ impl Perception {
         let reading = read_infrared(&self.infrared, &self.world, pose, floor, &mut self.rng);
         let reach = view.cell_size_m;
         let mut infrared = 0u8;
-        for (k, range) in reading.ranges_m.iter().enumerate().take(INFRARED_NEIGHBOURS.len()) {
+        for (k, range) in reading
+            .ranges_m
+            .iter()
+            .enumerate()
+            .take(INFRARED_NEIGHBOURS.len())
+        {
             if range.is_some_and(|d| d < reach) {
                 infrared |= 1 << k;
             }
         }
         let start = self.heat.len() as u32;
-        for d in read_thermal(&self.thermal, scene, &self.world, pose, floor, &mut self.rng) {
+        for d in read_thermal(
+            &self.thermal,
+            scene,
+            &self.world,
+            pose,
+            floor,
+            &mut self.rng,
+        ) {
             let Some(c) = view.cell_of(d.position(pose)) else {
                 continue;
             };
@@ -212,7 +252,13 @@ impl Perception {
     }
 
     /// Rubble classification of §IV-A-4 from one D_xy frame.
-    fn classify_ahead(&mut self, view: &CellView, pose: Pose2, floor_m: f64, ahead: Cell) -> CellClass {
+    fn classify_ahead(
+        &mut self,
+        view: &CellView,
+        pose: Pose2,
+        floor_m: f64,
+        ahead: Cell,
+    ) -> CellClass {
         let image = read_depth(&self.depth, &self.world, pose, floor_m, &mut self.rng);
         // Half a fine cell inside the border: a beam stopped by the side of a neighbouring pile
         // meets it on the border line, and belongs to that neighbour.
@@ -267,7 +313,11 @@ impl Perception {
         let within = |slope: f64, roughness: f64, height: f64| {
             fit.slope_rad <= slope && fit.roughness_m <= roughness && deviation <= height
         };
-        if within(p.open_max_slope_rad, p.open_max_roughness_m, p.open_max_height_m) {
+        if within(
+            p.open_max_slope_rad,
+            p.open_max_roughness_m,
+            p.open_max_height_m,
+        ) {
             CellClass::Open
         } else if within(
             p.climbable_max_slope_rad,

@@ -100,10 +100,18 @@ impl PolicyFile {
             expected,
         };
         if self.format != FORMAT {
-            return Err(mismatch("format", format!("{:?}", self.format), format!("{FORMAT:?}")));
+            return Err(mismatch(
+                "format",
+                format!("{:?}", self.format),
+                format!("{FORMAT:?}"),
+            ));
         }
         if self.version != VERSION {
-            return Err(mismatch("version", self.version.to_string(), VERSION.to_string()));
+            return Err(mismatch(
+                "version",
+                self.version.to_string(),
+                VERSION.to_string(),
+            ));
         }
         let h = RescueHierarchy::new();
         let nodes = h.nodes();
@@ -114,7 +122,11 @@ impl PolicyFile {
                 format!("{} nodes", l.nodes.len()),
                 format!(
                     "the USAR task graph ({})",
-                    nodes.iter().map(|n| n.name.as_str()).collect::<Vec<_>>().join(", ")
+                    nodes
+                        .iter()
+                        .map(|n| n.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             ));
         }

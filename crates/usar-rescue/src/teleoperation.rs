@@ -106,7 +106,8 @@ fn teleoperate(
     let start = scene.start(0).unwrap_or((Cell::new(0, 0), 0));
     let operator = SimulatedOperator::new(profile.clone(), seed ^ 0x7E1E);
     let weights = ExplorationWeights::named("equal").expect("Table II case");
-    let mut d = RescueDomain::new(scene, start, weights, config.clone(), operator, seed).teleoperated();
+    let mut d =
+        RescueDomain::new(scene, start, weights, config.clone(), operator, seed).teleoperated();
     let mut rng = Pcg64Mcg::seed_from_u64(seed ^ 0x61FE);
     let mut decided: Vec<(i32, i32)> = Vec::new();
     let (mut found, mut false_ids) = (0u32, 0u32);
@@ -120,14 +121,20 @@ fn teleoperate(
                 .scene
                 .victims
                 .iter()
-                .filter(|v| view.cell_of(v.position).is_some_and(|c| (c.col, c.row) == ahead))
+                .filter(|v| {
+                    view.cell_of(v.position)
+                        .is_some_and(|c| (c.col, c.row) == ahead)
+                })
                 .map(|v| (HeatTruth::Victim(v.id), v.heat_c, v.exposed_size_m2()))
                 .chain(
                     scene
                         .scene
                         .heat_sources
                         .iter()
-                        .filter(|h| view.cell_of(h.position).is_some_and(|c| (c.col, c.row) == ahead))
+                        .filter(|h| {
+                            view.cell_of(h.position)
+                                .is_some_and(|c| (c.col, c.row) == ahead)
+                        })
                         .map(|h| (HeatTruth::Other(h.id), h.heat_c, h.size_m2)),
                 )
                 .next();
@@ -161,11 +168,7 @@ fn teleoperate(
             CellAction::RotateRight => action::ROTATE_RIGHT,
         });
     }
-    let visited = d
-        .visited()
-        .zip(reachable)
-        .filter(|&(v, &r)| v && r)
-        .count();
+    let visited = d.visited().zip(reachable).filter(|&(v, &r)| v && r).count();
     TrialResult {
         victims_found: found,
         false_identifications: false_ids,

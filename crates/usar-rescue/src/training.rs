@@ -84,13 +84,17 @@ pub struct TrainReport {
 
 /// The seed of trial `t` (scene, start, streams).
 pub fn trial_seed(seed: u64, t: u32) -> u64 {
-    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (u64::from(t) + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (u64::from(t) + 1).wrapping_mul(0xD1B5_4A32_D192_ED03)
 }
 
 /// A training scene (the random style of §VI-A) and its start.
 pub fn training_scene(seed: u64, t: u32) -> (RescueScene, (usar_world::Cell, u8)) {
     let s = trial_seed(seed, t);
-    let scene = RescueScene::new(generate_rubble(s, &RubbleParams::with_style(RubbleStyle::Random)));
+    let scene = RescueScene::new(generate_rubble(
+        s,
+        &RubbleParams::with_style(RubbleStyle::Random),
+    ));
     let mut rng = Pcg64Mcg::seed_from_u64(s ^ 0xA11CE);
     let starts = scene.scene.start_poses.len().max(1);
     let k = rng.random_range(0..starts);

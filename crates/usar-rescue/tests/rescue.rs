@@ -3,12 +3,12 @@
 
 use proptest::prelude::*;
 use usar_maxq::{Hierarchy, NodeKind};
+use usar_rescue::evaluation::{EvalConfig, evaluate};
 use usar_rescue::exploration::{Direction, ExplorationWeights, region_of};
 use usar_rescue::hierarchy::{self, RescueHierarchy, action};
 use usar_rescue::operator::{OperatorProfile, SimulatedOperator};
 use usar_rescue::policy::{PolicyFile, TrainingInfo};
 use usar_rescue::training::{TrainConfig, train};
-use usar_rescue::evaluation::{EvalConfig, evaluate};
 use usar_rescue::{DomainConfig, RescueDomain, RescueScene, RescueState, VictimStatus, rewards};
 use usar_world::generate::{RubbleParams, generate_rubble};
 
@@ -34,7 +34,10 @@ fn the_task_graph_is_fig_2() {
     assert_eq!(children(ROOT), vec![NUR, VI, HC_SHARE]);
     assert_eq!(children(NUR), vec![EXIT, NG, HC_NAV]);
     assert_eq!(children(VI), vec![TAG, NG, HC_NAV]);
-    assert_eq!(children(NG), vec![FORWARD, BACKWARD, ROTATE_LEFT, ROTATE_RIGHT]);
+    assert_eq!(
+        children(NG),
+        vec![FORWARD, BACKWARD, ROTATE_LEFT, ROTATE_RIGHT]
+    );
     assert_eq!(children(HC_NAV), children(NG));
     assert_eq!(h.apprentice(HC_NAV), Some(NG));
 }
@@ -112,7 +115,10 @@ fn exit_before_exploring_costs_and_collisions_are_punished() {
     assert_eq!(d.act(action::TAG), rewards::TAG_WRONG);
     // Turning never earns more than the obstacle bonus.
     let r = d.act(action::ROTATE_LEFT);
-    assert!(r == rewards::VISITED || r == rewards::OBSTACLE_AVOIDED, "{r}");
+    assert!(
+        r == rewards::VISITED || r == rewards::OBSTACLE_AVOIDED,
+        "{r}"
+    );
     assert!(d.guidance().heading.is_some());
     assert_eq!(d.act(action::EXIT), rewards::EXIT_EARLY);
     assert!(d.is_done());
@@ -139,9 +145,15 @@ fn a_saved_policy_evaluates_identically_and_corrupt_files_are_errors() {
     let (learner, report) = train(&small_training(), |_| {});
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("policy.json");
-    PolicyFile::new(learner.clone(), TrainingInfo { seed: report.seed, trials: report.trials })
-        .save(&path)
-        .unwrap();
+    PolicyFile::new(
+        learner.clone(),
+        TrainingInfo {
+            seed: report.seed,
+            trials: report.trials,
+        },
+    )
+    .save(&path)
+    .unwrap();
     let loaded = PolicyFile::load(&path).unwrap();
     assert_eq!(loaded.learner, learner);
     let config = EvalConfig {

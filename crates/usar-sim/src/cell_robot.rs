@@ -134,7 +134,10 @@ impl CellRobot {
             CellAction::Backward => -1,
             CellAction::RotateLeft | CellAction::RotateRight => return None,
         };
-        Some(Cell::new(self.cell.col + sign * dc, self.cell.row + sign * dr))
+        Some(Cell::new(
+            self.cell.col + sign * dc,
+            self.cell.row + sign * dr,
+        ))
     }
 
     /// Applies one primitive action among things the terrain classes do not show: a move into a
