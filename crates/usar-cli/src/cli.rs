@@ -175,6 +175,74 @@ pub enum MaxqCommand {
     /// Check the MAXQ-Q engine on Dietterich's Taxi domain: trains MAXQ-Q and flat Q with the
     /// same seed and compares their greedy policies with the optimum (value iteration).
     Taxi(MaxqTaxiArgs),
+    /// Train paper 000's USAR hierarchy (and flat Q on the same scenes) over random rubble
+    /// scenes; write the policy file and the learning curves (Fig. 7a/7b).
+    Train(MaxqTrainArgs),
+    /// Evaluate a policy on scenes A, B, C × 3 start poses × the 4 weight cases of Table II ×
+    /// repetitions: steps, coverage, collisions, victims, hand-offs; ANOVA and paired t-tests.
+    Eval(MaxqEvalArgs),
+    /// Semi-autonomous vs teleoperated trials of 10 simulated operators (paper 000 §VII-B).
+    TeleopStudy(MaxqTeleopArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MaxqTrainArgs {
+    /// Trials, one random scene each (paper: 1800).
+    #[arg(long, default_value_t = 1800)]
+    pub trials: u32,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Where to write the policy (JSON, versioned).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Learning curves: cumulative reward per trial (Fig. 7a); the steps plot (Fig. 7b) is
+    /// written beside it with `-steps` added to the name. .png or .svg.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Skip the flat Q-learner.
+    #[arg(long)]
+    pub no_flat: bool,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct MaxqEvalArgs {
+    /// A policy written by `usar maxq train`.
+    #[arg(long)]
+    pub policy: PathBuf,
+    /// Repetitions per (scene, start, weights) (paper: 6).
+    #[arg(long, default_value_t = 6)]
+    pub reps: u32,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Generator seed of scenes A, B, C.
+    #[arg(long, default_value_t = 1)]
+    pub scene_seed: u64,
+    /// Primitive steps after which a run is cut off.
+    #[arg(long, default_value_t = 6000)]
+    pub max_steps: u64,
+    /// Fig. 9-like bar chart of the steps per scene and weight case (.png or .svg).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print every run too.
+    #[arg(long)]
+    pub runs: bool,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct MaxqTeleopArgs {
+    /// A policy written by `usar maxq train`; without it one is trained first (--trials).
+    #[arg(long)]
+    pub policy: Option<PathBuf>,
+    #[arg(long, default_value_t = 300)]
+    pub trials: u32,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Args)]

@@ -2,6 +2,7 @@
 
 mod btm;
 mod campaign;
+mod maxq;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -25,7 +25,7 @@ fn table_i_rewards_are_the_papers() {
 
 #[test]
 fn the_task_graph_is_fig_2() {
-    let h = RescueHierarchy::new();
+    let h = hierarchy::RescueHierarchy::new();
     let children = |n: usize| match &h.nodes()[n].kind {
         NodeKind::Composite { children } => children.clone(),
         NodeKind::Primitive { .. } => vec![],
@@ -49,7 +49,7 @@ fn state(stuck: bool, targets: bool, victim: VictimStatus, heading: bool) -> Res
 #[test]
 fn subtasks_terminate_as_documented() {
     use hierarchy::*;
-    let h = RescueHierarchy::new();
+    let h = hierarchy::RescueHierarchy::new();
     let explore = state(false, true, VictimStatus::None, true);
     assert!(!h.terminated(NUR, &explore) && h.terminated(VI, &explore));
     assert!(!h.terminated(NG, &explore) && h.terminated(HC_NAV, &explore));

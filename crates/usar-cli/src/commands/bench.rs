@@ -42,6 +42,12 @@ struct BenchReport {
     /// rooms) on the generated office floor (office-1), one core; the median of the runs.
     team_realtime_factor: f64,
     team_run_wall_s: f64,
+    /// MAXQ-Q training on paper-000 rubble scenes: primitive steps per second, one core,
+    /// exploration utility, perception (cached per cell and heading), hand-offs and hierarchy
+    /// bookkeeping included; the scenes are generated before the clock starts.
+    maxq_steps_per_s: f64,
+    /// The same with the generation of the scenes counted (one new scene per trial).
+    maxq_steps_per_s_with_scene_generation: f64,
     targets: serde_json::Value,
 }
 
@@ -106,6 +112,53 @@ fn corners(grid: &NavGrid) -> (Cell, Cell) {
 /// into a fresh result database (expanding, scheduling, committing to SQLite; runs that finish
 /// together share a commit). Second: one run per transaction (the case of runs that take long),
 /// the median over 200 commits — mostly the fsync of SQLite's journal.
+/// MAXQ-Q training speed (see `BenchReport::maxq_steps_per_s`): a learner warmed up on 100
+/// trials, then timed over 64 further scenes, median of three passes.
+fn maxq_training_speed() -> (f64, f64) {
+    use usar_rescue::training::{TrainConfig, train, training_scene, trial_seed};
+    use usar_rescue::{DomainConfig, RescueDomain, RescueHierarchy};
+    let config = TrainConfig {
+        trials: 100,
+        flat: false,
+        ..TrainConfig::default()
+    };
+    let (mut learner, _) = train(&config, |_| {});
+    let h = RescueHierarchy::new();
+    let mut rng = Pcg64Mcg::seed_from_u64(7);
+    let mut learn = |scenes: &[(usar_rescue::RescueScene, (Cell, u8))], base: u32| -> u64 {
+        let mut steps = 0;
+        for (k, (scene, start)) in scenes.iter().enumerate() {
+            let s = trial_seed(99, base + k as u32);
+            let operator =
+                usar_rescue::operator::SimulatedOperator::new(config.operator.clone(), s);
+            let mut d = RescueDomain::new(
+                scene,
+                *start,
+                config.weights.clone(),
+                DomainConfig::default(),
+                operator,
+                s,
+            );
+            let s0 = d.state();
+            steps += learner.learn_episode(&h, &mut d, s0, &mut rng).steps;
+        }
+        steps
+    };
+    let mut prepared = Vec::new();
+    let mut with_generation = Vec::new();
+    for pass in 0..3u32 {
+        let t = Instant::now();
+        let scenes: Vec<_> = (0..64).map(|k| training_scene(99, pass * 64 + k)).collect();
+        let generation_s = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let steps = learn(&scenes, pass * 64) as f64;
+        let learning_s = t.elapsed().as_secs_f64();
+        prepared.push(steps / learning_s);
+        with_generation.push(steps / (learning_s + generation_s));
+    }
+    (median(prepared), median(with_generation))
+}
+
 fn campaign_overhead_ms() -> CmdResult<(f64, f64)> {
     use usar_campaign::{Design, NoopRunner, Shard, Store, run_design};
     let levels: Vec<String> = (0..100).map(|a| a.to_string()).collect();
@@ -258,6 +311,7 @@ pub fn run(args: BenchArgs) -> CmdResult {
     let frontier_clusters_ms = median(clusters);
     bar.inc(1);
     let (campaign_overhead_ms_per_run, campaign_commit_alone_ms) = campaign_overhead_ms()?;
+    let (maxq_steps_per_s, maxq_steps_per_s_with_scene_generation) = maxq_training_speed();
     bar.inc(1);
     let team_run_wall_s = median(
         (0..if args.quick { 1 } else { 3 })
@@ -286,6 +340,8 @@ pub fn run(args: BenchArgs) -> CmdResult {
         frontier_update_ms,
         frontier_clusters_ms,
         campaign_overhead_ms_per_run,
+        maxq_steps_per_s,
+        maxq_steps_per_s_with_scene_generation,
         campaign_commit_alone_ms,
         team_realtime_factor: 1200.0 / team_run_wall_s,
         team_run_wall_s,
@@ -293,7 +349,8 @@ pub fn run(args: BenchArgs) -> CmdResult {
             "team_realtime_factor": ">= 600",
             "lidar_scans_per_s": ">= 20000", "astar4_ms": "<= 10", "astar8_ms": "<= 10",
             "distance_field_ms": "<= 10", "frontier_update_ms": "<= 0.3",
-            "campaign_overhead_ms_per_run": "< 1"
+            "campaign_overhead_ms_per_run": "< 1",
+            "maxq_steps_per_s": ">= 1000000"
         }),
     };
     if args.json {
@@ -303,6 +360,10 @@ pub fn run(args: BenchArgs) -> CmdResult {
         println!(
             "  laser scans + occupancy update  {:>10.0} scans/s   (target ≥ 20 000)",
             report.lidar_scans_per_s
+        );
+        println!(
+            "  MAXQ training primitive steps   {:>10.0} steps/s   (target ≥ 1 000 000; {:.0} with scene generation)",
+            report.maxq_steps_per_s, report.maxq_steps_per_s_with_scene_generation
         );
         println!(
             "  A* 4-connected corner to corner {:>10.2} ms       (target ≤ 10; {} expanded)",

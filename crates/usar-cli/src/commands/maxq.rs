@@ -1,15 +1,385 @@
 //! `usar maxq`: paper 000's hierarchical reinforcement learning.
 
 use super::print_json;
-use crate::cli::{MaxqCommand, MaxqTaxiArgs};
+use crate::cli::{MaxqCommand, MaxqEvalArgs, MaxqTaxiArgs, MaxqTeleopArgs, MaxqTrainArgs};
 use crate::failure::{CmdResult, InputContext, bad_input};
+use crate::progress;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use usar_campaign::stats::{self, Tails, TestResult};
 use usar_maxq::taxi::{TaxiConfig, run_taxi};
-use usar_plot::{LineChart, Series};
+use usar_plot::{Bar, BarChart, LineChart, Series};
+use usar_rescue::evaluation::{EvalConfig, EvalRun, eval_scene, evaluate};
+use usar_rescue::operator::OperatorProfile;
+use usar_rescue::policy::{PolicyFile, TrainingInfo};
+use usar_rescue::teleoperation::{ParticipantResult, study};
+use usar_rescue::training::{TrainConfig, TrainReport, train};
 
 pub fn run(cmd: MaxqCommand) -> CmdResult {
     match cmd {
         MaxqCommand::Taxi(args) => taxi(args),
+        MaxqCommand::Train(args) => train_command(args),
+        MaxqCommand::Eval(args) => eval_command(args),
+        MaxqCommand::TeleopStudy(args) => teleop_command(args),
     }
+}
+
+/// `usar maxq train`: the policy file, the stored-value counts and the curves.
+fn train_command(args: MaxqTrainArgs) -> CmdResult {
+    if args.trials == 0 {
+        return Err(bad_input(anyhow::anyhow!("--trials must be at least 1")));
+    }
+    let config = TrainConfig {
+        seed: args.seed,
+        trials: args.trials,
+        flat: !args.no_flat,
+        ..TrainConfig::default()
+    };
+    let bar = progress::bar(u64::from(args.trials), "training", args.json);
+    let (learner, report) = train(&config, |t| bar.set_position(u64::from(t)));
+    bar.finish_and_clear();
+    PolicyFile::new(
+        learner,
+        TrainingInfo {
+            seed: args.seed,
+            trials: args.trials,
+        },
+    )
+    .save(&args.out)
+    .input()?;
+    if let Some(path) = &args.plot {
+        plot_training(&report, path).input()?;
+    }
+    let ratio = report.maxq_q_values as f64 / report.flat_q_values.max(1) as f64;
+    if args.json {
+        #[derive(Serialize)]
+        struct Out<'a> {
+            policy: &'a Path,
+            maxq_q_values: usize,
+            flat_q_values: usize,
+            maxq_over_flat: f64,
+            #[serde(flatten)]
+            report: &'a TrainReport,
+        }
+        return print_json(&Out {
+            policy: &args.out,
+            maxq_q_values: report.maxq_q_values,
+            flat_q_values: report.flat_q_values,
+            maxq_over_flat: ratio,
+            report: &report,
+        });
+    }
+    println!(
+        "{} trials: MAXQ stored {} values, flat Q {} ({:.2} %); policy written to {}",
+        report.trials,
+        report.maxq_q_values,
+        report.flat_q_values,
+        100.0 * ratio,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// Fig. 7a (cumulative reward per trial, MAXQ and flat Q) and Fig. 7b (steps per trial, first
+/// 200 trials).
+fn plot_training(report: &TrainReport, path: &Path) -> anyhow::Result<()> {
+    let cumulative = |pick: &dyn Fn(&usar_rescue::training::TrialPoint) -> Option<f64>| {
+        let mut sum = 0.0;
+        report
+            .curve
+            .iter()
+            .filter_map(|p| {
+                sum += pick(p)?;
+                Some((f64::from(p.trial + 1), sum))
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut series = vec![Series::line("MAXQ", cumulative(&|p| Some(p.maxq_reward)))];
+    let flat = cumulative(&|p| p.flat_reward);
+    if !flat.is_empty() {
+        series.push(Series::line("flat Q", flat));
+    }
+    LineChart {
+        title: "Cumulative reward per trial (paper 000 Fig. 7a)".into(),
+        x_label: "trial".into(),
+        y_label: "cumulative reward".into(),
+        series,
+        y_range: None,
+    }
+    .save(path)?;
+    let steps: Vec<(f64, f64)> = report
+        .curve
+        .iter()
+        .take(200)
+        .map(|p| (f64::from(p.trial + 1), p.maxq_steps as f64))
+        .collect();
+    LineChart {
+        title: "Exploration steps, first 200 trials (paper 000 Fig. 7b)".into(),
+        x_label: "trial".into(),
+        y_label: "steps".into(),
+        series: vec![Series::line("MAXQ", steps)],
+        y_range: None,
+    }
+    .save(&sibling(path, "-steps"))?;
+    Ok(())
+}
+
+/// `dir/name.ext` → `dir/name{suffix}.ext`.
+fn sibling(path: &Path, suffix: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let ext = path
+        .extension()
+        .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+    path.with_file_name(format!("{stem}{suffix}{ext}"))
+}
+
+/// Mean and sd of one metric.
+#[derive(Serialize)]
+struct MeanSd {
+    mean: f64,
+    sd: Option<f64>,
+}
+
+fn mean_sd(xs: &[f64]) -> MeanSd {
+    let s = stats::summarize(xs);
+    MeanSd {
+        mean: s.as_ref().map_or(f64::NAN, |s| s.mean),
+        sd: s.and_then(|s| s.sd),
+    }
+}
+
+#[derive(Serialize)]
+struct SceneSummary {
+    runs: usize,
+    steps: MeanSd,
+    coverage: MeanSd,
+    collisions: MeanSd,
+    operator_collisions: MeanSd,
+    victims_found: MeanSd,
+    victims_reachable: MeanSd,
+    handoffs_stuck: MeanSd,
+    handoffs_victim: MeanSd,
+    /// Runs that explored every reachable cell.
+    full_coverage_runs: usize,
+    /// Runs that found every reachable victim.
+    all_victims_runs: usize,
+    /// Runs without a collision while the robot was in control.
+    collision_free_runs: usize,
+    /// Mean steps per weight case (Fig. 9).
+    steps_by_weights: BTreeMap<String, MeanSd>,
+}
+
+fn summarize_runs(runs: &[&EvalRun]) -> SceneSummary {
+    let col = |f: &dyn Fn(&EvalRun) -> f64| runs.iter().map(|r| f(r)).collect::<Vec<_>>();
+    let mut by_weights: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for r in runs {
+        by_weights
+            .entry(r.weights.clone())
+            .or_default()
+            .push(r.steps as f64);
+    }
+    SceneSummary {
+        runs: runs.len(),
+        steps: mean_sd(&col(&|r| r.steps as f64)),
+        coverage: mean_sd(&col(&|r| r.coverage)),
+        collisions: mean_sd(&col(&|r| f64::from(r.collisions))),
+        operator_collisions: mean_sd(&col(&|r| f64::from(r.operator_collisions))),
+        victims_found: mean_sd(&col(&|r| f64::from(r.victims_found))),
+        victims_reachable: mean_sd(&col(&|r| f64::from(r.victims_reachable))),
+        handoffs_stuck: mean_sd(&col(&|r| f64::from(r.handoffs_stuck))),
+        handoffs_victim: mean_sd(&col(&|r| f64::from(r.handoffs_victim))),
+        full_coverage_runs: runs.iter().filter(|r| r.coverage >= 1.0).count(),
+        all_victims_runs: runs
+            .iter()
+            .filter(|r| r.victims_found >= r.victims_reachable)
+            .count(),
+        collision_free_runs: runs.iter().filter(|r| r.collisions == 0).count(),
+        steps_by_weights: by_weights
+            .iter()
+            .map(|(k, v)| (k.clone(), mean_sd(v)))
+            .collect(),
+    }
+}
+
+/// `usar maxq eval`.
+fn eval_command(args: MaxqEvalArgs) -> CmdResult {
+    if args.reps == 0 {
+        return Err(bad_input(anyhow::anyhow!("--reps must be at least 1")));
+    }
+    let policy = PolicyFile::load(&args.policy).map_err(bad_input)?;
+    let config = EvalConfig {
+        seed: args.seed,
+        scene_seed: args.scene_seed,
+        repetitions: args.reps,
+        max_steps: args.max_steps,
+        ..EvalConfig::default()
+    };
+    let total = (config.scenes.len() * 3 * config.weights.len()) as u64 * u64::from(args.reps);
+    let bar = progress::bar(total, "evaluating", args.json);
+    let runs = evaluate(&policy.learner, &config, || bar.inc(1));
+    bar.finish_and_clear();
+    let mut scenes = BTreeMap::new();
+    for name in &config.scenes {
+        let of_scene: Vec<&EvalRun> = runs.iter().filter(|r| &r.scene == name).collect();
+        scenes.insert(name.clone(), summarize_runs(&of_scene));
+    }
+    // §VI-B: ANOVA of the steps across the weight cases; one-tailed paired t-tests of the
+    // travel-weighted case against each other case, paired by (scene, start, repetition).
+    let steps_of = |w: &str| -> Vec<f64> {
+        runs.iter()
+            .filter(|r| r.weights == w)
+            .map(|r| r.steps as f64)
+            .collect()
+    };
+    let groups: Vec<Vec<f64>> = config.weights.iter().map(|w| steps_of(&w.name)).collect();
+    let group_refs: Vec<&[f64]> = groups.iter().map(Vec::as_slice).collect();
+    let anova = stats::one_way_anova(&group_refs).map_err(|e| e.to_string());
+    let travel = steps_of("travel");
+    let mut paired: BTreeMap<String, Result<TestResult, String>> = BTreeMap::new();
+    for w in config.weights.iter().filter(|w| w.name != "travel") {
+        paired.insert(
+            format!("travel_vs_{}", w.name),
+            stats::paired_t_test(&travel, &steps_of(&w.name), Tails::Less)
+                .map_err(|e| e.to_string()),
+        );
+    }
+    if let Some(path) = &args.plot {
+        let mut bars = Vec::new();
+        for (name, s) in &scenes {
+            for (w, m) in &s.steps_by_weights {
+                bars.push(Bar {
+                    label: format!("{name} {w}"),
+                    value: m.mean,
+                    error: m.sd.unwrap_or(0.0),
+                });
+            }
+        }
+        BarChart {
+            title: "Exploration steps by scene and weight case (paper 000 Fig. 9)".into(),
+            y_label: "steps".into(),
+            bars,
+        }
+        .save(path)
+        .input()?;
+    }
+    #[derive(Serialize)]
+    struct Out<'a> {
+        policy: &'a Path,
+        runs_total: usize,
+        scenes: BTreeMap<String, SceneSummary>,
+        anova_steps_by_weights: Result<TestResult, String>,
+        paired_t_steps: BTreeMap<String, Result<TestResult, String>>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        runs: Option<&'a [EvalRun]>,
+    }
+    let out = Out {
+        policy: &args.policy,
+        runs_total: runs.len(),
+        scenes,
+        anova_steps_by_weights: anova,
+        paired_t_steps: paired,
+        runs: args.runs.then_some(runs.as_slice()),
+    };
+    if args.json {
+        return print_json(&out);
+    }
+    for (name, s) in &out.scenes {
+        println!(
+            "scene {name}: steps {:.0} (sd {:.0}), coverage {:.3}, collisions {:.2}, victims {:.2}/{:.2}, hand-offs {:.2} stuck + {:.2} victim; full coverage {}/{} runs",
+            s.steps.mean,
+            s.steps.sd.unwrap_or(0.0),
+            s.coverage.mean,
+            s.collisions.mean,
+            s.victims_found.mean,
+            s.victims_reachable.mean,
+            s.handoffs_stuck.mean,
+            s.handoffs_victim.mean,
+            s.full_coverage_runs,
+            s.runs
+        );
+    }
+    Ok(())
+}
+
+/// `usar maxq teleop-study`.
+fn teleop_command(args: MaxqTeleopArgs) -> CmdResult {
+    let learner = match &args.policy {
+        Some(path) => PolicyFile::load(path).map_err(bad_input)?.learner,
+        None => {
+            let config = TrainConfig {
+                seed: args.seed,
+                trials: args.trials.max(1),
+                flat: false,
+                ..TrainConfig::default()
+            };
+            let bar = progress::bar(u64::from(config.trials), "training", args.json);
+            let (learner, _) = train(&config, |t| bar.set_position(u64::from(t)));
+            bar.finish_and_clear();
+            learner
+        }
+    };
+    let scene = eval_scene("A", args.seed)
+        .ok_or_else(|| bad_input(anyhow::anyhow!("scene A could not be built")))?;
+    let participants = OperatorProfile::participants(args.seed);
+    let results = study(
+        &learner,
+        &scene,
+        &participants,
+        &usar_rescue::DomainConfig::default(),
+        args.seed,
+    );
+    let mean =
+        |f: &dyn Fn(&ParticipantResult) -> f64| mean_sd(&results.iter().map(f).collect::<Vec<_>>());
+    #[derive(Serialize)]
+    struct Side {
+        victims_found: MeanSd,
+        false_identifications: MeanSd,
+        explored_percent: MeanSd,
+        collisions: MeanSd,
+        time_s: MeanSd,
+    }
+    #[derive(Serialize)]
+    struct Out<'a> {
+        participants: &'a [ParticipantResult],
+        semi_autonomous: Side,
+        teleoperated: Side,
+    }
+    let out = Out {
+        participants: &results,
+        semi_autonomous: Side {
+            victims_found: mean(&|p| f64::from(p.semi_autonomous.victims_found)),
+            false_identifications: mean(&|p| f64::from(p.semi_autonomous.false_identifications)),
+            explored_percent: mean(&|p| p.semi_autonomous.explored_percent),
+            collisions: mean(&|p| f64::from(p.semi_autonomous.collisions)),
+            time_s: mean(&|p| p.semi_autonomous.time_s),
+        },
+        teleoperated: Side {
+            victims_found: mean(&|p| f64::from(p.teleoperated.victims_found)),
+            false_identifications: mean(&|p| f64::from(p.teleoperated.false_identifications)),
+            explored_percent: mean(&|p| p.teleoperated.explored_percent),
+            collisions: mean(&|p| f64::from(p.teleoperated.collisions)),
+            time_s: mean(&|p| p.teleoperated.time_s),
+        },
+    };
+    if args.json {
+        return print_json(&out);
+    }
+    for (label, side) in [
+        ("semi-autonomous", &out.semi_autonomous),
+        ("teleoperated", &out.teleoperated),
+    ] {
+        println!(
+            "{label}: victims {:.1}, explored {:.1} %, collisions {:.1}, time {:.0} s",
+            side.victims_found.mean,
+            side.explored_percent.mean,
+            side.collisions.mean,
+            side.time_s.mean
+        );
+    }
+    Ok(())
 }
 
 fn taxi(args: MaxqTaxiArgs) -> CmdResult {
