@@ -488,13 +488,20 @@ fn check_report(
             let Some((_, levels)) = varied(f) else {
                 return Err(bad(
                     "within",
-                    format!("comparison within `{f}`, expected a varied factor ({})", varied_names()),
+                    format!(
+                        "comparison within `{f}`, expected a varied factor ({})",
+                        varied_names()
+                    ),
                 ));
             };
-            if c.factor.split('+').any(|x| x == f) || !levels.iter().any(|v| v.to_string() == l.to_string()) {
+            if c.factor.split('+').any(|x| x == f)
+                || !levels.iter().any(|v| v.to_string() == l.to_string())
+            {
                 return Err(bad(
                     "within",
-                    format!("comparison within {f} = {l}: not a level of `{f}` or the compared factor itself"),
+                    format!(
+                        "comparison within {f} = {l}: not a level of `{f}` or the compared factor itself"
+                    ),
                 ));
             }
         }
@@ -504,7 +511,11 @@ fn check_report(
             if let Some(f) = c.factor.split('+').find(|f| varied(f).is_none()) {
                 return Err(bad(
                     "factor",
-                    format!("comparison over `{}`: `{f}` is not a varied factor ({})", c.factor, varied_names()),
+                    format!(
+                        "comparison over `{}`: `{f}` is not a varied factor ({})",
+                        c.factor,
+                        varied_names()
+                    ),
                 ));
             }
             if c.test != TestKind::Anova && c.groups.len() != 2 {

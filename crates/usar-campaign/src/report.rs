@@ -168,9 +168,11 @@ fn compare(campaign: &CampaignFile, c: &Comparison, runs: &[StoredRun]) -> TestR
         c.groups.iter().map(Level::to_string).collect()
     };
     let within = |r: &StoredRun| {
-        c.within
-            .iter()
-            .all(|(f, l)| r.config.get(f).is_some_and(|v| v.to_string() == l.to_string()))
+        c.within.iter().all(|(f, l)| {
+            r.config
+                .get(f)
+                .is_some_and(|v| v.to_string() == l.to_string())
+        })
     };
     let values = |g: &str| -> Vec<(String, f64)> {
         runs.iter()

@@ -39,7 +39,10 @@ impl TeamSetup<'_> {
             )
         })?;
         let hypothesis = Hypothesis::named(self.hypothesis).ok_or_else(|| {
-            format!("hypothesis: found {:?}, expected big or small", self.hypothesis)
+            format!(
+                "hypothesis: found {:?}, expected big or small",
+                self.hypothesis
+            )
         })?;
         if !(self.minutes.is_finite() && self.minutes > 0.0) {
             return Err(format!(
@@ -53,8 +56,8 @@ impl TeamSetup<'_> {
                 self.merge_period_s
             ));
         }
-        let robot = crate::scene_source::load_robot(self.robot)
-            .map_err(|f| format!("{:#}", f.error))?;
+        let robot =
+            crate::scene_source::load_robot(self.robot).map_err(|f| format!("{:#}", f.error))?;
         let exploration = Exploration {
             strategy,
             coordination,

@@ -3,10 +3,10 @@
 
 use crate::config::Strategy;
 use crate::criteria::{CandidateInfo, Hypothesis, utilities};
+use crate::fuzzy::Mamdani;
 use crate::mcdm::{FuzzyMeasure, Sense, normalize};
 use crate::semantic_map::RoomFacts;
 use crate::team_size::{corridor_system, ideal_robots, room_system};
-use crate::fuzzy::Mamdani;
 use rand::Rng;
 use rand_pcg::Pcg64Mcg;
 use usar_world::{Point2, RoomLabel};
@@ -42,15 +42,15 @@ pub fn bids(
         // Random: a fresh uniform draw per pair and auction.
         Strategy::Random => travel
             .iter()
-            .map(|row| {
-                row.iter()
-                    .map(|t| t.map(|_| rng.random::<f64>()))
-                    .collect()
-            })
+            .map(|row| row.iter().map(|t| t.map(|_| rng.random::<f64>())).collect())
             .collect(),
         // Distance (and the baseline when it is auctioned): shorter paths are better.
         Strategy::Distance | Strategy::Nearest => {
-            let flat: Vec<Option<f64>> = travel.iter().flatten().map(|t| t.map(|t| t.length_m)).collect();
+            let flat: Vec<Option<f64>> = travel
+                .iter()
+                .flatten()
+                .map(|t| t.map(|t| t.length_m))
+                .collect();
             let u = normalize(&flat, Sense::Cost);
             u.chunks(candidates.len().max(1))
                 .take(travel.len())
@@ -94,7 +94,12 @@ impl TeamSizer {
     /// `perceived` of the room known: the corridor system (size, doors, intersecting
     /// corridors, perceived area) for a corridor, the room system (size, doors, visibility,
     /// perceived area) otherwise.
-    pub fn ideal(&self, room: Option<&RoomFacts>, label: Option<RoomLabel>, perceived: f64) -> usize {
+    pub fn ideal(
+        &self,
+        room: Option<&RoomFacts>,
+        label: Option<RoomLabel>,
+        perceived: f64,
+    ) -> usize {
         let Some(room) = room else {
             return 1;
         };

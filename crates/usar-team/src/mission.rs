@@ -174,12 +174,7 @@ fn map_geometry(scene: &Scene, resolution_m: Option<f64>) -> GridGeometry {
     match resolution_m {
         Some(r) if (r - g.resolution_m).abs() > 1e-12 => {
             let (w, h) = g.extent_m();
-            GridGeometry::new(
-                (w / r).ceil() as u32,
-                (h / r).ceil() as u32,
-                r,
-                g.origin,
-            )
+            GridGeometry::new((w / r).ceil() as u32, (h / r).ceil() as u32, r, g.origin)
         }
         _ => g,
     }
@@ -233,7 +228,7 @@ impl TeamMission {
             )));
         }
         if let Some(r) = config.radio.range_m
-            && !(r > 0.0)
+            && (r.is_nan() || r <= 0.0)
         {
             return Err(MissionError::Config(format!(
                 "radio range: found {r} m, expected a positive distance"
@@ -637,20 +632,18 @@ impl TeamMission {
             if self.plan_grids[radius].is_none() {
                 let merged = &self.base.merged;
                 let nav = [&self.base.navigable, &self.base.navigable_tight][radius];
-                self.plan_grids[radius] =
-                    Some(NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))));
+                self.plan_grids[radius] = Some(NavGrid::from_fn(g, |c| {
+                    !nav.is_navigable(merged, g.index(c))
+                }));
             }
             let mut grid = self.plan_grids[radius].take().expect("built above");
             let start = self.source_cells(&grid, here, false)[0];
             let was = (grid.is_passable(start), grid.is_passable(goal));
             grid.set_passable(start, true);
             grid.set_passable(goal, true);
-            let path = self.planner.plan(
-                &grid,
-                start,
-                goal,
-                usar_map::planning::Connectivity::Eight,
-            );
+            let path =
+                self.planner
+                    .plan(&grid, start, goal, usar_map::planning::Connectivity::Eight);
             grid.set_passable(start, was.0);
             grid.set_passable(goal, was.1);
             self.plan_grids[radius] = Some(grid);
@@ -694,13 +687,14 @@ impl TeamMission {
         self.visited.retain(|&(_, until)| until > now);
         let visited: Vec<bool> = cands
             .iter()
-            .map(|c| self.visited.iter().any(|&(v, _)| v.chebyshev(c.cell) <= VISITED_CELLS))
+            .map(|c| {
+                self.visited
+                    .iter()
+                    .any(|&(v, _)| v.chebyshev(c.cell) <= VISITED_CELLS)
+            })
             .collect();
         // What is known of each candidate: room, perceived label, i(p).
-        let rooms: Vec<Option<usize>> = cands
-            .iter()
-            .map(|c| self.room_near(c.cell))
-            .collect();
+        let rooms: Vec<Option<usize>> = cands.iter().map(|c| self.room_near(c.cell)).collect();
         let labels: Vec<Option<RoomLabel>> = rooms
             .iter()
             .map(|r| r.map(|k| self.semantic.perceived_label(k)))
@@ -756,7 +750,12 @@ impl TeamMission {
                 .iter()
                 .zip(&visited)
                 .map(|(c, &visited)| {
-                    if visited || agent.blacklist.iter().any(|&(b, _)| b.chebyshev(c.cell) <= 3) {
+                    if visited
+                        || agent
+                            .blacklist
+                            .iter()
+                            .any(|&(b, _)| b.chebyshev(c.cell) <= 3)
+                    {
                         return None;
                     }
                     let goal = cg.world_to_cell(g.cell_center(c.cell));
@@ -835,16 +834,6 @@ impl TeamMission {
                                     .assigned_per_label
                                     .entry(self.semantic.rooms()[k].label)
                                     .or_default() += 1;
-                            }
-                            if std::env::var_os("USAR_TEAM_TRACE").is_some() {
-                                let r = self.sim.robot(self.agents[i].id);
-                                eprintln!(
-                                    "t={now:.1} robot {i} at ({:.1},{:.1}) -> ({:.1},{:.1}) {:?} u={:.3} A={} path={} wp contact={}",
-                                    r.pose.x, r.pose.y,
-                                    g.cell_center(target).x, g.cell_center(target).y,
-                                    labels[c], bids[k][c].unwrap_or(-1.0), cands[c].frontier_cells,
-                                    waypoints.len(), r.in_contact()
-                                );
                             }
                             let agent = &mut self.agents[i];
                             agent.follower = PathFollower::new(waypoints);
@@ -1140,7 +1129,12 @@ impl TeamMission {
 /// turn onto the first step and the 45° multiples between consecutive steps — what
 /// [`crate::criteria::travel_time_s`] gives on the cell centres, without a trigonometric call
 /// per step.
-fn grid_travel_time_s(cells: &[Cell], length_m: f64, theta: f64, spec: &usar_sim::RobotSpec) -> f64 {
+fn grid_travel_time_s(
+    cells: &[Cell],
+    length_m: f64,
+    theta: f64,
+    spec: &usar_sim::RobotSpec,
+) -> f64 {
     let step_dir = |a: Cell, b: Cell| -> usize {
         usar_world::NEIGHBORS8
             .iter()

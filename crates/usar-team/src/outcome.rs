@@ -1,8 +1,8 @@
 //! What a team mission produced: final metrics, a time series, per-robot figures.
 
 use serde::Serialize;
-use usar_map::OccupancyGrid;
 use std::collections::BTreeMap;
+use usar_map::OccupancyGrid;
 use usar_world::{Point2, RoomLabel};
 
 /// Why the mission ended.

@@ -41,7 +41,11 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
     let config = setup
         .config()
         .map_err(|e| bad_input(anyhow::anyhow!("--{e}")))?;
-    let scene = Arc::new(scene_source::load(&args.scene, args.scene_seed, &args.image)?);
+    let scene = Arc::new(scene_source::load(
+        &args.scene,
+        args.scene_seed,
+        &args.image,
+    )?);
     if scene.rooms.is_empty() {
         return Err(bad_input(anyhow::anyhow!(
             "{}: the scene has no room layer (no labelled rooms); paper 002's relevant area needs one",

@@ -62,7 +62,10 @@ pub(super) fn scene_for(
     };
     let scene =
         Arc::new(scene_source::load(&name, seed, &image).map_err(|f| format!("{:#}", f.error))?);
-    cache.lock().expect("scene cache").insert(key, scene.clone());
+    cache
+        .lock()
+        .expect("scene cache")
+        .insert(key, scene.clone());
     Ok(scene)
 }
 

@@ -41,9 +41,7 @@ impl TeamRunner {
             hypothesis: config.text("hypothesis").unwrap_or("big"),
             minutes: config.float("minutes").unwrap_or(20.0),
             label_errors: config.text("label_errors").unwrap_or("perfect"),
-            stop_at_relevant: config
-                .float("stop_at_relevant")
-                .filter(|&f| f > 0.0),
+            stop_at_relevant: config.float("stop_at_relevant").filter(|&f| f > 0.0),
             merge_period_s: config.float("merge_period_s").unwrap_or(2.5),
             radio: Radio {
                 range_m: (range > 0.0).then_some(range),
@@ -100,15 +98,30 @@ impl Runner for TeamRunner {
                 Level::Int(6),
                 "team size",
             ),
-            text("robot", "wheeled", &[], "robot model: crawler, wheeled or a TOML file"),
+            text(
+                "robot",
+                "wheeled",
+                &[],
+                "robot model: crawler, wheeled or a TOML file",
+            ),
             text(
                 "strategy",
                 "s-mcdm",
                 &["random", "distance", "d-mcdm", "s-mcdm", "nearest"],
                 "exploration strategy",
             ),
-            text("coordination", "sr", &["sr", "mrv1", "mrv2"], "coordination method"),
-            text("hypothesis", "big", &["big", "small"], "victims in big or small rooms"),
+            text(
+                "coordination",
+                "sr",
+                &["sr", "mrv1", "mrv2"],
+                "coordination method",
+            ),
+            text(
+                "hypothesis",
+                "big",
+                &["big", "small"],
+                "victims in big or small rooms",
+            ),
             text(
                 "label_errors",
                 "perfect",
@@ -122,9 +135,24 @@ impl Runner for TeamRunner {
                 1.0,
                 "stop at this known fraction of the relevant area (0: run to the limit)",
             ),
-            float("merge_period_s", 2.5, 600.0, "map merge period at the base station"),
-            float("radio_range_m", 0.0, 1e6, "radio range from the base station (0: unlimited)"),
-            float("radio_drop", 0.0, 1.0, "probability that an exchange is lost"),
+            float(
+                "merge_period_s",
+                2.5,
+                600.0,
+                "map merge period at the base station",
+            ),
+            float(
+                "radio_range_m",
+                0.0,
+                1e6,
+                "radio range from the base station (0: unlimited)",
+            ),
+            float(
+                "radio_drop",
+                0.0,
+                1.0,
+                "probability that an exchange is lost",
+            ),
         ]
     }
 
@@ -137,7 +165,10 @@ impl Runner for TeamRunner {
                 "time_to_relevant_s",
                 "when the relevant-area target (stop_at_relevant, else 0.9) was reached; the run's end if never",
             ),
-            metric("relevant_fraction", "explored fraction of the relevant area"),
+            metric(
+                "relevant_fraction",
+                "explored fraction of the relevant area",
+            ),
             metric("time_s", "simulated time at the end"),
             metric("collisions", "collisions of the whole team"),
         ];
@@ -185,9 +216,8 @@ impl Runner for TeamRunner {
             setup.hypothesis,
             seed,
         );
-        let assigned = |m: &BTreeMap<RoomLabel, u32>, l: RoomLabel| {
-            f64::from(m.get(&l).copied().unwrap_or(0))
-        };
+        let assigned =
+            |m: &BTreeMap<RoomLabel, u32>, l: RoomLabel| f64::from(m.get(&l).copied().unwrap_or(0));
         let mut metrics = BTreeMap::from([
             ("relevant_area_m2".to_string(), s.relevant_area_m2),
             ("total_area_m2".to_string(), s.total_area_m2),
@@ -204,7 +234,10 @@ impl Runner for TeamRunner {
             ("collisions".to_string(), f64::from(s.collisions)),
         ]);
         for (l, name) in LABELS {
-            metrics.insert(format!("assigned_{name}"), assigned(&s.assigned_per_label, l));
+            metrics.insert(
+                format!("assigned_{name}"),
+                assigned(&s.assigned_per_label, l),
+            );
         }
         let series = s
             .series
@@ -216,7 +249,10 @@ impl Runner for TeamRunner {
                     ("distance_m".to_string(), p.distance_m),
                 ]);
                 for (l, name) in LABELS {
-                    values.insert(format!("assigned_{name}"), assigned(&p.assigned_per_label, l));
+                    values.insert(
+                        format!("assigned_{name}"),
+                        assigned(&p.assigned_per_label, l),
+                    );
                 }
                 SeriesPoint {
                     x: (p.time_s * 1e3).round() / 1e3,
