@@ -282,3 +282,49 @@ fn maxq_taxi_reaches_the_optimal_return() {
             < v["flat_episodes_to_optimal"].as_u64().unwrap_or(u64::MAX)
     );
 }
+
+#[test]
+fn team_run_prints_relevant_and_total_area_every_minute() {
+    let args = [
+        "team",
+        "run",
+        "--scene",
+        "office",
+        "--robots",
+        "3",
+        "--strategy",
+        "s-mcdm",
+        "--coordination",
+        "mrv2",
+        "--hypothesis",
+        "small",
+        "--minutes",
+        "2",
+        "--seed",
+        "4",
+        "--json",
+    ];
+    let out = usar(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(out.stdout, usar(&args).stdout, "a run is deterministic");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in ["relevant_area_m2", "total_area_m2", "distance_m"] {
+        assert!(v[key].as_f64().is_some(), "{key} missing");
+    }
+    assert!(v["total_area_m2"].as_f64().unwrap() > 100.0);
+    let series = v["series"].as_array().unwrap();
+    assert_eq!(series.len(), 3, "minutes 0, 1, 2");
+    assert!(series[2]["relevant_area_m2"].as_f64().is_some());
+    assert_bad_input(
+        &usar(&["team", "run", "--strategy", "greedy", "--json"]),
+        "expected random, distance, d-mcdm, s-mcdm",
+    );
+    assert_bad_input(
+        &usar(&["team", "run", "--label-errors", "random:2", "--json"]),
+        "expected a fraction in [0, 1]",
+    );
+}

@@ -3,8 +3,11 @@
 //! locations, candidates are assigned to robots, robots follow A*/distance-field paths, and the
 //! mission records coverage, explored area, distance and victims seen over time.
 //!
-//! The strategy implemented so far is the baseline *Distance* strategy with single-robot
-//! coordination: each robot goes to its nearest frontier candidate.
+//! Two ways to hand out candidates: the baseline explorer (`Strategy::Nearest`: each robot to
+//! its nearest candidate, one robot per candidate; what `demo` and `explore` run), and paper
+//! 002's auctions (every 5 s and when a robot arrives) with the Random, Distance, D-MCDM or
+//! S-MCDM strategy and SR, MRv1 or MRv2 coordination, on a semantic map whose labels may be
+//! perceived with errors; the mission then also measures the explored relevant area.
 
 pub mod assignment;
 pub mod base_station;

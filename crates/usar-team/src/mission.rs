@@ -835,21 +835,6 @@ impl TeamMission {
                                     .entry(self.semantic.rooms()[k].label)
                                     .or_default() += 1;
                             }
-                            if std::env::var_os("USAR_TEAM_TRACE").is_some() {
-                                let r = self.sim.robot(self.agents[i].id);
-                                eprintln!(
-                                    "t={now:.1} robot {i} at ({:.1},{:.1}) -> ({:.1},{:.1}) {:?} u={:.3} A={} path={} wp contact={}",
-                                    r.pose.x,
-                                    r.pose.y,
-                                    g.cell_center(target).x,
-                                    g.cell_center(target).y,
-                                    labels[c],
-                                    bids[k][c].unwrap_or(-1.0),
-                                    cands[c].frontier_cells,
-                                    waypoints.len(),
-                                    r.in_contact()
-                                );
-                            }
                             let agent = &mut self.agents[i];
                             agent.follower = PathFollower::new(waypoints);
                             agent.target = Some(target);

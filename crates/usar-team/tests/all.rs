@@ -1,3 +1,4 @@
 mod explore;
 mod mcdm;
+mod semantic;
 mod team_size;

@@ -20,5 +20,26 @@ pub fn named(name: &str) -> Option<&'static dyn Runner> {
 }
 
 /// The built-in campaign presets: name and file text (the files live in `campaigns/`).
-pub const PRESETS: [(&str, &str); 1] =
-    [("smoke", include_str!("../../../../campaigns/smoke.toml"))];
+pub const PRESETS: [(&str, &str); 6] = [
+    ("smoke", include_str!("../../../../campaigns/smoke.toml")),
+    (
+        "team-tables",
+        include_str!("../../../../campaigns/team-tables.toml"),
+    ),
+    (
+        "team-fig5",
+        include_str!("../../../../campaigns/team-fig5.toml"),
+    ),
+    (
+        "team-fig12",
+        include_str!("../../../../campaigns/team-fig12.toml"),
+    ),
+    (
+        "team-fig13-14",
+        include_str!("../../../../campaigns/team-fig13-14.toml"),
+    ),
+    (
+        "team-fig15",
+        include_str!("../../../../campaigns/team-fig15.toml"),
+    ),
+];
