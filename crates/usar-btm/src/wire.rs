@@ -49,6 +49,30 @@ impl Writer {
     fn f32(&mut self, v: f64) {
         self.out.extend_from_slice(&(v as f32).to_le_bytes());
     }
+
+    /// The present values, in order (their mask bits are written by the caller).
+    fn present(&mut self, values: &[Option<f64>]) {
+        for v in values.iter().flatten() {
+            self.f32(*v);
+        }
+    }
+
+    fn extra(&mut self, extra: &Extra, strings: &mut Strings) {
+        self.uv(extra.len() as u64);
+        for (k, v) in extra {
+            self.uv(strings.index(k));
+            self.uv(strings.index(&v.to_string()));
+        }
+    }
+}
+
+/// Mask bits `first_bit << i` for the values present.
+fn presence(values: &[Option<f64>], first_bit: u8) -> u8 {
+    values
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.is_some())
+        .fold(0, |mask, (i, _)| mask | (first_bit << i))
 }
 
 /// Interns strings in first-use order.
@@ -69,13 +93,6 @@ impl Strings {
     }
 }
 
-fn extra_pairs(extra: &Extra, strings: &mut Strings) -> Vec<(u64, u64)> {
-    extra
-        .iter()
-        .map(|(k, v)| (strings.index(k), strings.index(&v.to_string())))
-        .collect()
-}
-
 /// Encodes a map in the binary wire form.
 pub fn encode(btm: &Btm) -> Vec<u8> {
     let mut strings = Strings::default();
@@ -93,12 +110,7 @@ pub fn encode(btm: &Btm) -> Vec<u8> {
             n.step_height_m,
             n.max_robot_inclination_rad,
         ];
-        let mut mask = 0u8;
-        for (bit, v) in values.iter().enumerate() {
-            if v.is_some() {
-                mask |= 1 << bit;
-            }
-        }
+        let mut mask = presence(&values, 1);
         if n.operator_note.is_some() {
             mask |= 8;
         }
@@ -106,19 +118,12 @@ pub fn encode(btm: &Btm) -> Vec<u8> {
             mask |= 16;
         }
         w.out.push(mask);
-        for v in values.into_iter().flatten() {
-            w.f32(v);
-        }
+        w.present(&values);
         if let Some(note) = &n.operator_note {
             w.uv(strings.index(note));
         }
         if !n.extra.is_empty() {
-            let pairs = extra_pairs(&n.extra, &mut strings);
-            w.uv(pairs.len() as u64);
-            for (k, v) in pairs {
-                w.uv(k);
-                w.uv(v);
-            }
+            w.extra(&n.extra, &mut strings);
         }
     }
     w.uv(btm.links.len() as u64);
@@ -133,26 +138,14 @@ pub fn encode(btm: &Btm) -> Vec<u8> {
             l.max_inclination_rad,
             l.max_step_m,
         ];
-        let mut mask = u8::from(l.searched);
-        for (bit, v) in values.iter().enumerate() {
-            if v.is_some() {
-                mask |= 2 << bit;
-            }
-        }
+        let mut mask = u8::from(l.searched) | presence(&values, 2);
         if !l.extra.is_empty() {
             mask |= 32;
         }
         w.out.push(mask);
-        for v in values.into_iter().flatten() {
-            w.f32(v);
-        }
+        w.present(&values);
         if !l.extra.is_empty() {
-            let pairs = extra_pairs(&l.extra, &mut strings);
-            w.uv(pairs.len() as u64);
-            for (k, v) in pairs {
-                w.uv(k);
-                w.uv(v);
-            }
+            w.extra(&l.extra, &mut strings);
         }
     }
     let mut head = Writer {
@@ -211,6 +204,15 @@ impl Reader<'_> {
     fn f32(&mut self) -> Result<f64, String> {
         let b = self.take(4)?;
         Ok(f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])))
+    }
+
+    /// A value that is there when `bit` of `mask` is set.
+    fn optional(&mut self, mask: u8, bit: u8) -> Result<Option<f64>, String> {
+        if mask & bit != 0 {
+            self.f32().map(Some)
+        } else {
+            Ok(None)
+        }
     }
 
     /// A count, checked against the bytes left (each item takes at least one byte).
@@ -278,16 +280,9 @@ pub fn decode(bytes: &[u8]) -> Result<Btm, String> {
         };
         let mask = r.u8()?;
         let mut n = Node::new(id, x, y, &kind, subtype.as_deref());
-        let mut value = |bit: u8| -> Result<Option<f64>, String> {
-            if mask & bit != 0 {
-                r.f32().map(Some)
-            } else {
-                Ok(None)
-            }
-        };
-        n.slope_inclination_rad = value(1)?;
-        n.step_height_m = value(2)?;
-        n.max_robot_inclination_rad = value(4)?;
+        n.slope_inclination_rad = r.optional(mask, 1)?;
+        n.step_height_m = r.optional(mask, 2)?;
+        n.max_robot_inclination_rad = r.optional(mask, 4)?;
         if mask & 8 != 0 {
             let i = r.uv()?;
             n.operator_note = Some(r.string(&strings, i)?.to_string());
@@ -308,17 +303,10 @@ pub fn decode(bytes: &[u8]) -> Result<Btm, String> {
         l.end = end;
         let mask = r.u8()?;
         l.searched = mask & 1 != 0;
-        let mut value = |bit: u8| -> Result<Option<f64>, String> {
-            if mask & bit != 0 {
-                r.f32().map(Some)
-            } else {
-                Ok(None)
-            }
-        };
-        l.length_m = value(2)?;
-        l.min_width_m = value(4)?;
-        l.max_inclination_rad = value(8)?;
-        l.max_step_m = value(16)?;
+        l.length_m = r.optional(mask, 2)?;
+        l.min_width_m = r.optional(mask, 4)?;
+        l.max_inclination_rad = r.optional(mask, 8)?;
+        l.max_step_m = r.optional(mask, 16)?;
         if mask & 32 != 0 {
             l.extra = r.extra(&strings)?;
         }

@@ -290,26 +290,22 @@ fn build_with_bad_input_is_an_error_and_leaves_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("x.sqlite");
     let config = dir.path().join("bad.toml");
-    std::fs::write(&config, "passage_margin = 0.3\n").unwrap();
-    let out = usar(&[
-        "btm",
-        "build",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        db.to_str().unwrap(),
-    ]);
-    assert_bad_input(&out, "passage_margin");
-    std::fs::write(&config, "dt_s = -1.0\n").unwrap();
-    let out = usar(&[
-        "btm",
-        "build",
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        db.to_str().unwrap(),
-    ]);
-    assert_bad_input(&out, "dt_s");
+    // An unknown field and an out-of-range value, each named in the error.
+    for (text, field) in [
+        ("passage_margin = 0.3\n", "passage_margin"),
+        ("dt_s = -1.0\n", "dt_s"),
+    ] {
+        std::fs::write(&config, text).unwrap();
+        let out = usar(&[
+            "btm",
+            "build",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            db.to_str().unwrap(),
+        ]);
+        assert_bad_input(&out, field);
+    }
     // A start pose inside a wall of the course.
     let out = usar(&[
         "btm",

@@ -3,7 +3,17 @@
 
 use crate::maxq::{Domain, Episode, LearningParams, Table};
 use rand::Rng;
+use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
+
+/// The best action of a row of Q-values and its value; ties go to the lowest action.
+fn greedy_action(row: &[f64]) -> (usize, f64) {
+    row.iter()
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |best, (a, &q)| {
+            if q > best.1 { (a, q) } else { best }
+        })
+}
 
 /// A tabular Q-function over `states` × `actions`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -21,10 +31,7 @@ impl FlatQ {
             states,
             actions,
             params,
-            q: Table {
-                values: vec![0.0; states * actions],
-                written: vec![false; states * actions],
-            },
+            q: Table::new(states * actions),
             steps: 0,
         }
     }
@@ -35,12 +42,7 @@ impl FlatQ {
     }
 
     fn greedy(&self, s: usize) -> (usize, f64) {
-        let row = &self.q.values[s * self.actions..(s + 1) * self.actions];
-        row.iter()
-            .enumerate()
-            .fold((0, f64::NEG_INFINITY), |best, (a, &q)| {
-                if q > best.1 { (a, q) } else { best }
-            })
+        greedy_action(&self.q.values[s * self.actions..(s + 1) * self.actions])
     }
 
     /// One learning episode; `index` maps a state to `0..states`.
@@ -107,10 +109,9 @@ impl FlatQ {
 pub struct SparseFlatQ {
     pub actions: usize,
     pub params: LearningParams,
-    /// Row of each state key met so far (unsorted: only looked up, never iterated).
-    rows_unsorted: std::collections::HashMap<u64, u32, BuildKeyHasher>,
-    values: Vec<f64>,
-    written: Vec<bool>,
+    /// Row of each state key met so far (only looked up, never iterated).
+    rows: FxHashMap<u64, u32>,
+    q: Table,
     pub steps: u64,
 }
 
@@ -119,53 +120,45 @@ impl SparseFlatQ {
         Self {
             actions,
             params,
-            rows_unsorted: std::collections::HashMap::default(),
-            values: Vec::new(),
-            written: Vec::new(),
+            rows: FxHashMap::default(),
+            q: Table::default(),
             steps: 0,
         }
     }
 
-    fn params(&self) -> &LearningParams {
-        &self.params
-    }
-
     /// States met so far.
     pub fn states(&self) -> usize {
-        self.rows_unsorted.len()
+        self.rows.len()
     }
 
     /// Values ever written.
     pub fn stored_values(&self) -> usize {
-        self.written.iter().filter(|&&w| w).count()
+        self.q.stored()
     }
 
+    /// The row of a state key, created (unwritten zeros) the first time it is met.
     fn row(&mut self, key: u64) -> usize {
-        let next = self.rows_unsorted.len() as u32;
-        let row = *self.rows_unsorted.entry(key).or_insert(next) as usize;
+        let next = self.rows.len() as u32;
+        let row = *self.rows.entry(key).or_insert(next) as usize;
         if row == next as usize {
-            self.values.extend(std::iter::repeat_n(0.0, self.actions));
-            self.written
-                .extend(std::iter::repeat_n(false, self.actions));
+            self.q.grow(self.actions);
         }
         row
     }
 
+    /// The greedy action and value of a row; a state never met has only zeros.
     fn greedy_in(&self, row: Option<usize>) -> (usize, f64) {
-        let Some(row) = row else { return (0, 0.0) };
-        let values = &self.values[row * self.actions..(row + 1) * self.actions];
-        values
-            .iter()
-            .enumerate()
-            .fold((0, f64::NEG_INFINITY), |best, (a, &q)| {
-                if q > best.1 { (a, q) } else { best }
-            })
+        match row {
+            Some(row) => {
+                greedy_action(&self.q.values[row * self.actions..(row + 1) * self.actions])
+            }
+            None => (0, 0.0),
+        }
     }
 
     /// The greedy action of a state (action 0 for a state never met).
     pub fn greedy(&self, key: u64) -> usize {
-        self.greedy_in(self.rows_unsorted.get(&key).map(|&r| r as usize))
-            .0
+        self.greedy_in(self.rows.get(&key).map(|&r| r as usize)).0
     }
 
     /// One learning episode; `key` maps a state to its identity.
@@ -178,10 +171,9 @@ impl SparseFlatQ {
     ) -> Episode {
         let mut episode = Episode::default();
         let mut s = s0;
-        let max_steps = self.params().max_steps_per_episode;
-        while !domain.is_terminal(&s) && episode.steps < max_steps {
+        while !domain.is_terminal(&s) && episode.steps < self.params.max_steps_per_episode {
             let row = self.row(key(&s));
-            let a = if rng.random::<f64>() < self.params().epsilon.at(self.steps) {
+            let a = if rng.random::<f64>() < self.params.epsilon.at(self.steps) {
                 rng.random_range(0..self.actions)
             } else {
                 self.greedy_in(Some(row)).0
@@ -190,14 +182,15 @@ impl SparseFlatQ {
             let future = if domain.is_terminal(&next) {
                 0.0
             } else {
-                let next_row = self.rows_unsorted.get(&key(&next)).map(|&r| r as usize);
-                self.greedy_in(next_row).1
+                self.greedy_in(self.rows.get(&key(&next)).map(|&r| r as usize))
+                    .1
             };
-            let alpha = self.params().alpha.at(self.steps);
-            let target = r + self.params().gamma * future;
-            let i = row * self.actions + a;
-            self.values[i] = (1.0 - alpha) * self.values[i] + alpha * target;
-            self.written[i] = true;
+            let alpha = self.params.alpha.at(self.steps);
+            self.q.update(
+                row * self.actions + a,
+                alpha,
+                r + self.params.gamma * future,
+            );
             self.steps += 1;
             episode.reward += r;
             episode.steps += 1;
@@ -205,34 +198,5 @@ impl SparseFlatQ {
         }
         episode.finished = domain.is_terminal(&s);
         episode
-    }
-}
-
-/// A fast multiplicative hasher for integer keys (deterministic; no iteration reaches an output).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct BuildKeyHasher;
-
-impl std::hash::BuildHasher for BuildKeyHasher {
-    type Hasher = KeyHasher;
-    fn build_hasher(&self) -> KeyHasher {
-        KeyHasher(0)
-    }
-}
-
-/// See [`BuildKeyHasher`].
-#[derive(Clone, Copy, Debug, Default)]
-pub struct KeyHasher(u64);
-
-impl std::hash::Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0.rotate_left(5) ^ u64::from(b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-        }
-    }
-    fn write_u64(&mut self, n: u64) {
-        self.0 = (self.0.rotate_left(5) ^ n).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
     }
 }

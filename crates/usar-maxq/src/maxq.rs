@@ -123,11 +123,17 @@ pub struct Table {
 }
 
 impl Table {
-    fn new(len: usize) -> Self {
+    pub(crate) fn new(len: usize) -> Self {
         Self {
             values: vec![0.0; len],
             written: vec![false; len],
         }
+    }
+
+    /// Appends `n` unwritten zero entries.
+    pub(crate) fn grow(&mut self, n: usize) {
+        self.values.extend(std::iter::repeat_n(0.0, n));
+        self.written.extend(std::iter::repeat_n(false, n));
     }
 
     pub(crate) fn update(&mut self, i: usize, alpha: f64, target: f64) {

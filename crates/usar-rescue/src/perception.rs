@@ -310,23 +310,6 @@ impl Perception {
             return CellClass::NonClimbable;
         }
 
-        let within = |slope: f64, roughness: f64, height: f64| {
-            fit.slope_rad <= slope && fit.roughness_m <= roughness && deviation <= height
-        };
-        if within(
-            p.open_max_slope_rad,
-            p.open_max_roughness_m,
-            p.open_max_height_m,
-        ) {
-            CellClass::Open
-        } else if within(
-            p.climbable_max_slope_rad,
-            p.climbable_max_roughness_m,
-            p.climbable_max_height_m,
-        ) {
-            CellClass::Climbable
-        } else {
-            CellClass::NonClimbable
-        }
+        p.terrain_class(fit.slope_rad, fit.roughness_m, deviation)
     }
 }

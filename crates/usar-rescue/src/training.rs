@@ -153,15 +153,19 @@ pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, Tra
             .collect();
         for (t, (scene, start)) in (t0..t1).zip(&scenes) {
             let s = trial_seed(config.seed, t);
-            let operator = SimulatedOperator::new(config.operator.clone(), s ^ 0x0DE);
-            let mut domain = RescueDomain::new(
-                scene,
-                *start,
-                config.weights.clone(),
-                config.domain.clone(),
-                operator,
-                s,
-            );
+            // Both learners meet the same trial: scene, start, operator and noise.
+            let new_domain = || {
+                let operator = SimulatedOperator::new(config.operator.clone(), s ^ 0x0DE);
+                RescueDomain::new(
+                    scene,
+                    *start,
+                    config.weights.clone(),
+                    config.domain.clone(),
+                    operator,
+                    s,
+                )
+            };
+            let mut domain = new_domain();
             let s0 = domain.state();
             let e = maxq.learn_episode(&h, &mut domain, s0, &mut maxq_rng);
             let mut point = TrialPoint {
@@ -173,15 +177,7 @@ pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, Tra
                 flat_steps: None,
             };
             if config.flat {
-                let operator = SimulatedOperator::new(config.operator.clone(), s ^ 0x0DE);
-                let mut domain = RescueDomain::new(
-                    scene,
-                    *start,
-                    config.weights.clone(),
-                    config.domain.clone(),
-                    operator,
-                    s,
-                );
+                let mut domain = new_domain();
                 let s0 = domain.state();
                 let e = flat.learn_episode(
                     &mut FlatDomain(&mut domain),

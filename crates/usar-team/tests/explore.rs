@@ -43,7 +43,8 @@ fn walled_floor(w: f64, h: f64, walls: &[(f64, f64, f64, f64)], start: Pose2) ->
     scene
 }
 
-fn small_office() -> Scene {
+/// A 32 × 22 m office (seed 3), small enough for quick missions.
+pub(super) fn small_office() -> Scene {
     let params = BuildingParams {
         width_m: 32.0,
         height_m: 22.0,

@@ -1,6 +1,7 @@
 //! Paper 002 missions: strategies, coordination, the semantic map and its error models,
 //! relevant-area metrics, robot failures.
 
+use super::explore::small_office;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
@@ -9,17 +10,7 @@ use usar_team::coordination::{Coordination, DiscountParams, allocate_among};
 use usar_team::criteria::Hypothesis;
 use usar_team::semantic_map::{LabelErrors, SemanticMap};
 use usar_team::{Exploration, Finish, RobotFailure, Strategy, TeamConfig, TeamMission};
-use usar_world::generate::{BuildingParams, generate_office};
-use usar_world::{RoomLabel, Scene};
-
-fn small_office() -> Scene {
-    let params = BuildingParams {
-        width_m: 32.0,
-        height_m: 22.0,
-        ..BuildingParams::office()
-    };
-    generate_office(3, &params)
-}
+use usar_world::RoomLabel;
 
 fn config(
     robots: usize,

@@ -212,14 +212,7 @@ fn show(args: BtmShowArgs) -> CmdResult {
 
 /// Every node with its Table I fields (links, angles) and every link.
 fn describe(btm: &Btm) -> serde_json::Value {
-    let mut by_kind = std::collections::BTreeMap::<String, usize>::new();
-    for n in &btm.nodes {
-        let key = match &n.subtype {
-            Some(s) => format!("{}/{s}", n.kind),
-            None => n.kind.clone(),
-        };
-        *by_kind.entry(key).or_default() += 1;
-    }
+    let by_kind = usar_btm::build::count_nodes(btm);
     let searched = btm.links.iter().filter(|l| l.searched).count();
     json!({
         "nodes_by_kind": by_kind,

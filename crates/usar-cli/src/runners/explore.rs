@@ -69,6 +69,40 @@ pub(super) fn scene_for(
     Ok(scene)
 }
 
+/// The factors every team runner has: `scene`, `scene_seed`, `robots` (default `robots`) and
+/// `robot`.
+pub(super) fn scene_and_team_factors(scene_help: &str, robots: i64) -> Vec<FactorSpec> {
+    vec![
+        factor(
+            "scene",
+            FactorKind::Text { choices: vec![] },
+            Level::Text("office".into()),
+            scene_help,
+        ),
+        factor(
+            "scene_seed",
+            FactorKind::Int {
+                min: 0,
+                max: i64::MAX,
+            },
+            Level::Int(1),
+            "seed of a generated scene",
+        ),
+        factor(
+            "robots",
+            FactorKind::Int { min: 1, max: 64 },
+            Level::Int(robots),
+            "team size",
+        ),
+        factor(
+            "robot",
+            FactorKind::Text { choices: vec![] },
+            Level::Text("wheeled".into()),
+            "robot model: crawler, wheeled or a robot TOML file",
+        ),
+    ]
+}
+
 pub(super) fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpec {
     FactorSpec {
         name: name.into(),
@@ -91,34 +125,11 @@ impl Runner for ExploreRunner {
     }
 
     fn factors(&self) -> Vec<FactorSpec> {
-        vec![
-            factor(
-                "scene",
-                FactorKind::Text { choices: vec![] },
-                Level::Text("office".into()),
-                "a generator name (office, mall, rubble, course) or a scene/map file",
-            ),
-            factor(
-                "scene_seed",
-                FactorKind::Int {
-                    min: 0,
-                    max: i64::MAX,
-                },
-                Level::Int(1),
-                "seed of a generated scene",
-            ),
-            factor(
-                "robots",
-                FactorKind::Int { min: 1, max: 64 },
-                Level::Int(4),
-                "team size",
-            ),
-            factor(
-                "robot",
-                FactorKind::Text { choices: vec![] },
-                Level::Text("wheeled".into()),
-                "robot model: crawler, wheeled or a robot TOML file",
-            ),
+        let mut factors = scene_and_team_factors(
+            "a generator name (office, mall, rubble, course) or a scene/map file",
+            4,
+        );
+        factors.extend([
             factor(
                 "minutes",
                 FactorKind::Float {
@@ -143,7 +154,8 @@ impl Runner for ExploreRunner {
                 Level::Float(3.0),
                 "stop when coverage grew < 0.2 % in this long (0: never)",
             ),
-        ]
+        ]);
+        factors
     }
 
     fn metrics(&self) -> Vec<MetricSpec> {

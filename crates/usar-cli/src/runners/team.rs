@@ -1,6 +1,6 @@
 //! Runner `team`: paper 002's semantically-informed exploration (one `usar team run`).
 
-use super::explore::{factor, metric, scene_for};
+use super::explore::{factor, metric, scene_and_team_factors, scene_for};
 use crate::team_setup::TeamSetup;
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
@@ -76,34 +76,11 @@ impl Runner for TeamRunner {
                 help,
             )
         };
-        vec![
-            text(
-                "scene",
-                "office",
-                &[],
-                "office or mall (generated with scene_seed), or a scene file with a room layer",
-            ),
-            factor(
-                "scene_seed",
-                FactorKind::Int {
-                    min: 0,
-                    max: i64::MAX,
-                },
-                Level::Int(1),
-                "seed of the generated floor",
-            ),
-            factor(
-                "robots",
-                FactorKind::Int { min: 1, max: 64 },
-                Level::Int(6),
-                "team size",
-            ),
-            text(
-                "robot",
-                "wheeled",
-                &[],
-                "robot model: crawler, wheeled or a TOML file",
-            ),
+        let mut factors = scene_and_team_factors(
+            "office or mall (generated with scene_seed), or a scene file with a room layer",
+            6,
+        );
+        factors.extend([
             text(
                 "strategy",
                 "s-mcdm",
@@ -153,7 +130,8 @@ impl Runner for TeamRunner {
                 1.0,
                 "probability that an exchange is lost",
             ),
-        ]
+        ]);
+        factors
     }
 
     fn metrics(&self) -> Vec<MetricSpec> {

@@ -424,24 +424,7 @@ fn classify(t: &CellTerrain, reference: f64, p: &CellViewParams) -> CellClass {
         return CellClass::Drop;
     }
     let deviation = (t.max_height_m - reference).max(reference - t.min_height_m);
-    let within = |slope: f64, roughness: f64, height: f64| {
-        t.slope_rad <= slope && t.roughness_m <= roughness && deviation <= height
-    };
-    if within(
-        p.open_max_slope_rad,
-        p.open_max_roughness_m,
-        p.open_max_height_m,
-    ) {
-        CellClass::Open
-    } else if within(
-        p.climbable_max_slope_rad,
-        p.climbable_max_roughness_m,
-        p.climbable_max_height_m,
-    ) {
-        CellClass::Climbable
-    } else {
-        CellClass::NonClimbable
-    }
+    p.terrain_class(t.slope_rad, t.roughness_m, deviation)
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! Thresholds of the cell classification, with their sources.
 
+use super::CellClass;
 use crate::error::{Result, WorldError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -71,6 +72,30 @@ impl Default for CellViewParams {
 }
 
 impl CellViewParams {
+    /// The terrain class of a surface from its plane fit (slope, RMS roughness) and its height
+    /// deviation from the reference floor (§IV-A-4, Fig. 4): within the open limits → open,
+    /// within the climbable limits → climbable, otherwise non-climbable.
+    pub fn terrain_class(&self, slope_rad: f64, roughness_m: f64, deviation_m: f64) -> CellClass {
+        let within = |slope: f64, roughness: f64, height: f64| {
+            slope_rad <= slope && roughness_m <= roughness && deviation_m <= height
+        };
+        if within(
+            self.open_max_slope_rad,
+            self.open_max_roughness_m,
+            self.open_max_height_m,
+        ) {
+            CellClass::Open
+        } else if within(
+            self.climbable_max_slope_rad,
+            self.climbable_max_roughness_m,
+            self.climbable_max_height_m,
+        ) {
+            CellClass::Climbable
+        } else {
+            CellClass::NonClimbable
+        }
+    }
+
     /// Checks parameters that come from outside (a configuration file, the command line);
     /// `source` names where they came from in the error message.
     pub fn validate(&self, source: &Path) -> Result<()> {

@@ -190,7 +190,7 @@ impl<'a> Explorer<'a> {
             mode: RunMode::CentralRun,
             contact_steps: 0,
             manoeuvre: std::collections::VecDeque::new(),
-            stall: StallWatch::new(start, 0.0),
+            stall: StallWatch::new(start, 0.0, cfg.dt_s),
             ignored: Vec::new(),
             recent_floor: std::collections::VecDeque::new(),
         })
@@ -518,10 +518,7 @@ impl<'a> Explorer<'a> {
             State::Backoff { .. } => Some(Target::Backoff),
             State::Done => None,
         };
-        match self
-            .stall
-            .check(self.pose(), self.sim.time_s(), target, self.cfg.dt_s)
-        {
+        match self.stall.check(self.pose(), self.sim.time_s(), target) {
             Some(Remedy::Escape(commands)) => {
                 self.manoeuvre.extend(commands);
                 return Ok(self.manoeuvre.pop_front().unwrap_or_default());

@@ -47,6 +47,8 @@ pub enum Remedy {
 
 #[derive(Clone, Debug)]
 pub struct StallWatch {
+    /// The control step, seconds (escapes are played one command per step).
+    dt_s: f64,
     anchor: Pose2,
     since_s: f64,
     target: Option<Target>,
@@ -54,8 +56,9 @@ pub struct StallWatch {
 }
 
 impl StallWatch {
-    pub fn new(pose: Pose2, time_s: f64) -> Self {
+    pub fn new(pose: Pose2, time_s: f64, dt_s: f64) -> Self {
         Self {
+            dt_s,
             anchor: pose,
             since_s: time_s,
             target: None,
@@ -65,13 +68,7 @@ impl StallWatch {
 
     /// Called once per control step with the robot's estimated pose; `None` while it makes
     /// progress (or has nothing to do).
-    pub fn check(
-        &mut self,
-        pose: Pose2,
-        time_s: f64,
-        target: Option<Target>,
-        dt_s: f64,
-    ) -> Option<Remedy> {
+    pub fn check(&mut self, pose: Pose2, time_s: f64, target: Option<Target>) -> Option<Remedy> {
         if target != self.target {
             self.target = target;
             self.escapes = 0;
@@ -94,7 +91,7 @@ impl StallWatch {
             return Some(Remedy::GiveUp(target));
         }
         self.escapes += 1;
-        let steps = |s: f64| (s / dt_s).round().max(1.0) as usize;
+        let steps = |s: f64| (s / self.dt_s).round().max(1.0) as usize;
         let turn = Velocity {
             linear_mps: 0.0,
             angular_radps: if self.escapes % 2 == 1 {
@@ -124,13 +121,13 @@ mod tests {
     #[test]
     fn a_robot_standing_still_escapes_twice_then_gives_up() {
         let p = Pose2::new(1.0, 2.0, 0.3);
-        let mut w = StallWatch::new(p, 0.0);
+        let mut w = StallWatch::new(p, 0.0, 0.1);
         let t = Some(Target::Link(7));
         let mut remedies = Vec::new();
         let mut time = 0.0;
         while remedies.len() < 3 {
             time += 0.1;
-            if let Some(r) = w.check(p, time, t, 0.1) {
+            if let Some(r) = w.check(p, time, t) {
                 remedies.push((time, r));
             }
         }
@@ -142,18 +139,18 @@ mod tests {
 
     #[test]
     fn progress_or_a_new_target_resets_the_watch() {
-        let mut w = StallWatch::new(Pose2::new(0.0, 0.0, 0.0), 0.0);
+        let mut w = StallWatch::new(Pose2::new(0.0, 0.0, 0.0), 0.0, 0.1);
         let mut time = 0.0;
         for i in 0..1000 {
             time += 0.1;
             // Creeping forward 1 cm per step: never stalled.
             let p = Pose2::new(0.01 * f64::from(i), 0.0, 0.0);
-            assert_eq!(w.check(p, time, Some(Target::Node(3)), 0.1), None);
+            assert_eq!(w.check(p, time, Some(Target::Node(3))), None);
         }
         // Without a target nothing is ever done.
         for _ in 0..1000 {
             time += 0.1;
-            assert_eq!(w.check(Pose2::new(0.0, 0.0, 0.0), time, None, 0.1), None);
+            assert_eq!(w.check(Pose2::new(0.0, 0.0, 0.0), time, None), None);
         }
     }
 }
