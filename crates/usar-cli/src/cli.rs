@@ -241,6 +241,10 @@ pub struct MaxqTeleopArgs {
     pub trials: u32,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Draw Fig. 16 (% explored per participant, both modes) into this .png or .svg file, and
+    /// beside it `-victims` (Fig. 17), `-collisions` (Fig. 18) and `-time` (Table III).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
     #[arg(long)]
     pub json: bool,
 }

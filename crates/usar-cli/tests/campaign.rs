@@ -241,3 +241,37 @@ fn bad_campaign_files_and_databases_exit_2_and_leave_results_untouched() {
     }
     assert_eq!(std::fs::read(&db).unwrap(), junk);
 }
+
+#[test]
+fn every_preset_parses_against_its_runner() {
+    let out = usar(&["campaign", "list", "--json"]);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let runs: BTreeMap<&str, u64> = v["presets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            assert!(p["error"].is_null(), "broken preset: {p}");
+            (p["name"].as_str().unwrap(), p["runs"].as_u64().unwrap())
+        })
+        .collect();
+    // The papers' designs: Tables 4-7 of paper 002 and §VI-B of paper 000.
+    assert_eq!(runs["team-tables"], 720);
+    assert_eq!(runs["maxq-eval"], 216);
+    assert_eq!(runs["smoke"], 30);
+}
+
+#[test]
+fn output_into_a_closed_pipe_ends_quietly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_usar"))
+        .args(["campaign", "list"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away, like `| head -0`
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

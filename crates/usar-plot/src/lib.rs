@@ -1,5 +1,5 @@
 //! `usar-plot` draws the plots of the reports — a metric over time with a mean ± sd band per
-//! configuration, bar charts with error bars — with `plotters`, to PNG or SVG chosen by the file
+//! configuration, bar charts with error bars, grouped bar charts — with `plotters`, to PNG or SVG chosen by the file
 //! extension. PNG text uses DejaVu Sans embedded in the binary, so no system font is needed.
 //! Files are written atomically (to memory, then [`usar_world::write_atomic`]).
 //!
@@ -19,9 +19,11 @@
 
 mod bar;
 mod font;
+mod grouped;
 mod line;
 
 pub use self::bar::{Bar, BarChart};
+pub use self::grouped::GroupedBarChart;
 pub use self::line::{LineChart, Series};
 
 use std::path::Path;
@@ -91,9 +93,10 @@ pub(crate) fn render(path: &Path, plot: &impl Drawable) -> Result<(), PlotError>
         path: path.display().to_string(),
         message,
     };
+    // Both backends measure text with the font (SVG to place labels and legends).
+    font::ensure_registered();
     match format_of(path)? {
         Format::Png => {
-            font::ensure_registered();
             let mut buf = vec![0u8; (WIDTH * HEIGHT * 3) as usize];
             {
                 let area = plotters::backend::BitMapBackend::with_buffer(&mut buf, (WIDTH, HEIGHT))

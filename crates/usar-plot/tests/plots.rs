@@ -1,4 +1,4 @@
-use usar_plot::{Bar, BarChart, LineChart, Series};
+use usar_plot::{Bar, BarChart, GroupedBarChart, LineChart, Series};
 
 fn chart() -> LineChart {
     let pts = |f: fn(f64) -> f64| {
@@ -75,4 +75,52 @@ fn bar_chart_and_unknown_extension() {
         "{err}"
     );
     assert!(!dir.path().join("b.jpg").exists());
+}
+
+#[test]
+fn grouped_bar_chart_draws_one_bar_per_series_and_group() {
+    let dir = tempfile::tempdir().unwrap();
+    let chart = GroupedBarChart {
+        title: "Scene explored (%)".into(),
+        x_label: "participant".into(),
+        y_label: "explored (%)".into(),
+        groups: (1..=3).map(|k| k.to_string()).collect(),
+        series: vec![
+            ("teleoperated".into(), vec![60.0, 88.0, 40.0]),
+            ("semi-autonomous".into(), vec![100.0, 100.0, 100.0]),
+        ],
+    };
+    let png = dir.path().join("g.png");
+    chart.save(&png).unwrap();
+    if let Ok(dir) = std::env::var("USAR_PLOT_SAMPLE_DIR") {
+        chart
+            .save(&std::path::Path::new(&dir).join("sample-grouped.png"))
+            .unwrap();
+    }
+
+    let img = image::open(&png).unwrap().to_rgb8();
+    // Each series' colour fills a bar per group: count the columns of each colour along the
+    // row a little above the x axis.
+    let y = img.height() - 80;
+    let columns = |c: [u8; 3]| {
+        (0..img.width())
+            .filter(|&x| img.get_pixel(x, y).0 == c)
+            .count()
+    };
+    let first = columns(palette(0));
+    let second = columns(palette(1));
+    assert!(
+        first > 60 && second > 60,
+        "bars missing: {first} / {second}"
+    );
+    let svg = dir.path().join("g.svg");
+    chart.save(&svg).unwrap();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("teleoperated") && text.contains("semi-autonomous"));
+    assert!(text.contains("participant"), "axis label missing");
+}
+
+fn palette(k: usize) -> [u8; 3] {
+    let (r, g, b) = usar_plot::PALETTE[k];
+    [r, g, b]
 }

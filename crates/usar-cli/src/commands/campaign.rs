@@ -176,7 +176,24 @@ fn export(args: CampaignExportArgs) -> CmdResult {
 }
 
 fn list(args: CampaignListArgs) -> CmdResult {
-    let presets: Vec<&str> = runners::PRESETS.iter().map(|(n, _)| *n).collect();
+    // Every preset is parsed against its runner, so a broken preset shows here.
+    let presets: Vec<serde_json::Value> = runners::PRESETS
+        .iter()
+        .map(|(name, text)| {
+            let source = format!("preset {name}");
+            match runner_named(text, &source, runners::named)
+                .and_then(|r| Design::parse(text, &source, r))
+            {
+                Ok(d) => json!({
+                    "name": name,
+                    "runner": d.campaign.runner,
+                    "runs": d.len(),
+                    "description": d.campaign.description,
+                }),
+                Err(e) => json!({ "name": name, "error": e.to_string() }),
+            }
+        })
+        .collect();
     let runners: Vec<_> = runners::all()
         .iter()
         .map(|r| json!({ "name": r.name(), "factors": r.factors(), "metrics": r.metrics() }))
@@ -184,7 +201,18 @@ fn list(args: CampaignListArgs) -> CmdResult {
     if args.json {
         return print_json(&json!({ "presets": presets, "runners": runners }));
     }
-    println!("presets: {}", presets.join(", "));
+    println!("presets:");
+    for p in &presets {
+        match p["error"].as_str() {
+            Some(e) => println!("  {:<14} BROKEN: {e}", p["name"].as_str().unwrap_or("")),
+            None => println!(
+                "  {:<14} {:>5} runs  {}",
+                p["name"].as_str().unwrap_or(""),
+                p["runs"],
+                p["description"].as_str().unwrap_or("")
+            ),
+        }
+    }
     for r in runners::all() {
         println!("runner {}:", r.name());
         for f in r.factors() {

@@ -7,9 +7,9 @@ use crate::progress;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use usar_campaign::stats::{self, Tails, TestResult};
+use usar_campaign::stats::{self, StatsError, Tails, TestResult};
 use usar_maxq::taxi::{TaxiConfig, run_taxi};
-use usar_plot::{Bar, BarChart, LineChart, Series};
+use usar_plot::{Bar, BarChart, GroupedBarChart, LineChart, Series};
 use usar_rescue::evaluation::{EvalConfig, EvalRun, eval_scene, evaluate};
 use usar_rescue::operator::OperatorProfile;
 use usar_rescue::policy::{PolicyFile, TrainingInfo};
@@ -151,6 +151,25 @@ fn mean_sd(xs: &[f64]) -> MeanSd {
     }
 }
 
+/// A test's statistic, df and p, or why it could not be computed (`{"error": "..."}`).
+#[derive(Serialize)]
+#[serde(untagged)]
+enum TestOutcome {
+    Computed(TestResult),
+    NotComputed { error: String },
+}
+
+impl From<Result<TestResult, StatsError>> for TestOutcome {
+    fn from(r: Result<TestResult, StatsError>) -> Self {
+        match r {
+            Ok(t) => Self::Computed(t),
+            Err(e) => Self::NotComputed {
+                error: e.to_string(),
+            },
+        }
+    }
+}
+
 #[derive(Serialize)]
 struct SceneSummary {
     runs: usize,
@@ -236,14 +255,13 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     };
     let groups: Vec<Vec<f64>> = config.weights.iter().map(|w| steps_of(&w.name)).collect();
     let group_refs: Vec<&[f64]> = groups.iter().map(Vec::as_slice).collect();
-    let anova = stats::one_way_anova(&group_refs).map_err(|e| e.to_string());
+    let anova = TestOutcome::from(stats::one_way_anova(&group_refs));
     let travel = steps_of("travel");
-    let mut paired: BTreeMap<String, Result<TestResult, String>> = BTreeMap::new();
+    let mut paired: BTreeMap<String, TestOutcome> = BTreeMap::new();
     for w in config.weights.iter().filter(|w| w.name != "travel") {
         paired.insert(
             format!("travel_vs_{}", w.name),
-            stats::paired_t_test(&travel, &steps_of(&w.name), Tails::Less)
-                .map_err(|e| e.to_string()),
+            stats::paired_t_test(&travel, &steps_of(&w.name), Tails::Less).into(),
         );
     }
     if let Some(path) = &args.plot {
@@ -270,8 +288,8 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
         policy: &'a Path,
         runs_total: usize,
         scenes: BTreeMap<String, SceneSummary>,
-        anova_steps_by_weights: Result<TestResult, String>,
-        paired_t_steps: BTreeMap<String, Result<TestResult, String>>,
+        anova_steps_by_weights: TestOutcome,
+        paired_t_steps: BTreeMap<String, TestOutcome>,
         #[serde(skip_serializing_if = "Option::is_none")]
         runs: Option<&'a [EvalRun]>,
     }
@@ -331,6 +349,9 @@ fn teleop_command(args: MaxqTeleopArgs) -> CmdResult {
         &usar_rescue::DomainConfig::default(),
         args.seed,
     );
+    if let Some(path) = &args.plot {
+        plot_study(&results, path).input()?;
+    }
     let mean =
         |f: &dyn Fn(&ParticipantResult) -> f64| mean_sd(&results.iter().map(f).collect::<Vec<_>>());
     #[derive(Serialize)]
@@ -378,6 +399,47 @@ fn teleop_command(args: MaxqTeleopArgs) -> CmdResult {
             side.collisions.mean,
             side.time_s.mean
         );
+    }
+    Ok(())
+}
+
+/// Paper 000 Fig. 16 (% explored), Fig. 17 (victims), Fig. 18 (collisions) and Table III
+/// (trial time): per participant, teleoperated beside semi-autonomous.
+fn plot_study(results: &[ParticipantResult], path: &Path) -> anyhow::Result<()> {
+    type Pick = fn(&usar_rescue::teleoperation::TrialResult) -> f64;
+    let figures: [(&str, &str, &str, Pick); 4] = [
+        (
+            "",
+            "Scene explored (paper 000 Fig. 16)",
+            "explored (%)",
+            |t| t.explored_percent,
+        ),
+        ("-victims", "Victims identified (Fig. 17)", "victims", |t| {
+            f64::from(t.victims_found)
+        }),
+        ("-collisions", "Collisions (Fig. 18)", "collisions", |t| {
+            f64::from(t.collisions)
+        }),
+        ("-time", "Trial time (Table III)", "time (s)", |t| t.time_s),
+    ];
+    for (suffix, title, y_label, pick) in figures {
+        GroupedBarChart {
+            title: title.into(),
+            x_label: "participant".into(),
+            y_label: y_label.into(),
+            groups: (1..=results.len()).map(|k| k.to_string()).collect(),
+            series: vec![
+                (
+                    "teleoperated".into(),
+                    results.iter().map(|p| pick(&p.teleoperated)).collect(),
+                ),
+                (
+                    "semi-autonomous".into(),
+                    results.iter().map(|p| pick(&p.semi_autonomous)).collect(),
+                ),
+            ],
+        }
+        .save(&sibling(path, suffix))?;
     }
     Ok(())
 }

@@ -2,16 +2,18 @@
 //! [`usar_campaign::Runner`].
 
 mod explore;
+mod maxq_eval;
 mod team;
 
 use usar_campaign::Runner;
 
 static EXPLORE: explore::ExploreRunner = explore::ExploreRunner::new();
 static TEAM: team::TeamRunner = team::TeamRunner::new();
+static MAXQ_EVAL: maxq_eval::MaxqEvalRunner = maxq_eval::MaxqEvalRunner::new();
 
 /// Every runner, by the name campaign files use.
-pub fn all() -> [&'static dyn Runner; 2] {
-    [&EXPLORE, &TEAM]
+pub fn all() -> [&'static dyn Runner; 3] {
+    [&EXPLORE, &TEAM, &MAXQ_EVAL]
 }
 
 /// The runner a campaign names, if there is one.
@@ -20,7 +22,7 @@ pub fn named(name: &str) -> Option<&'static dyn Runner> {
 }
 
 /// The built-in campaign presets: name and file text (the files live in `campaigns/`).
-pub const PRESETS: [(&str, &str); 6] = [
+pub const PRESETS: [(&str, &str); 7] = [
     ("smoke", include_str!("../../../../campaigns/smoke.toml")),
     (
         "team-tables",
@@ -41,5 +43,9 @@ pub const PRESETS: [(&str, &str); 6] = [
     (
         "team-fig15",
         include_str!("../../../../campaigns/team-fig15.toml"),
+    ),
+    (
+        "maxq-eval",
+        include_str!("../../../../campaigns/maxq-eval.toml"),
     ),
 ];
