@@ -32,7 +32,6 @@ impl Drawable for BarChart {
         area: &DrawingArea<DB, plotters::coord::Shift>,
     ) -> Result<(), String> {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-        area.fill(&WHITE).map_err(e)?;
         let top = self
             .bars
             .iter()
@@ -45,14 +44,13 @@ impl Drawable for BarChart {
             .fold(0.0f64, f64::min);
         let span = (top - bottom).max(1e-9);
         let n = self.bars.len().max(1);
-        let mut chart = ChartBuilder::on(area)
-            .caption(&self.title, ("sans-serif", 24))
-            .margin(16)
-            .margin_right(32)
-            .x_label_area_size(16)
-            .y_label_area_size(72)
-            .build_cartesian_2d(0f64..n as f64, bottom..top + 0.12 * span)
-            .map_err(e)?;
+        let mut chart = crate::frame(
+            area,
+            &self.title,
+            0f64..n as f64,
+            bottom..top + 0.12 * span,
+            16,
+        )?;
         chart
             .configure_mesh()
             .disable_x_mesh()

@@ -29,20 +29,18 @@ impl Drawable for GroupedBarChart {
         area: &DrawingArea<DB, plotters::coord::Shift>,
     ) -> Result<(), String> {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-        area.fill(&WHITE).map_err(e)?;
         let values = self.series.iter().flat_map(|(_, v)| v.iter().copied());
         let top = values.clone().fold(0.0f64, f64::max);
         let bottom = values.fold(0.0f64, f64::min);
         let span = (top - bottom).max(1e-9);
         let n = self.groups.len().max(1);
-        let mut chart = ChartBuilder::on(area)
-            .caption(&self.title, ("sans-serif", 24))
-            .margin(16)
-            .margin_right(32)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(0f64..n as f64, bottom..top + 0.15 * span)
-            .map_err(e)?;
+        let mut chart = crate::frame(
+            area,
+            &self.title,
+            0f64..n as f64,
+            bottom..top + 0.15 * span,
+            48,
+        )?;
         chart
             .configure_mesh()
             .disable_x_mesh()
@@ -82,14 +80,6 @@ impl Drawable for GroupedBarChart {
             area.draw(&Text::new(label.clone(), (x, y + 6), label_style.clone()))
                 .map_err(e)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(e)?;
-        Ok(())
+        crate::legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 }

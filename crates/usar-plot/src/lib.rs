@@ -78,6 +78,53 @@ pub const PALETTE: [(u8, u8, u8); 8] = [
 pub(crate) const WIDTH: u32 = 960;
 pub(crate) const HEIGHT: u32 = 600;
 
+/// A chart with two f64 axes.
+pub(crate) type Chart<'a, DB> = plotters::chart::ChartContext<
+    'a,
+    DB,
+    plotters::coord::cartesian::Cartesian2d<
+        plotters::coord::types::RangedCoordf64,
+        plotters::coord::types::RangedCoordf64,
+    >,
+>;
+
+/// The frame every chart shares: a white page, the caption, the margins and axis areas, and
+/// two f64 axes over `x` and `y`.
+pub(crate) fn frame<'a, DB: plotters::prelude::DrawingBackend>(
+    area: &'a plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+    x_label_area: u32,
+) -> Result<Chart<'a, DB>, String> {
+    use plotters::prelude::*;
+    area.fill(&WHITE).map_err(|e| e.to_string())?;
+    ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 24))
+        .margin(16)
+        .margin_right(40)
+        .x_label_area_size(x_label_area)
+        .y_label_area_size(72)
+        .build_cartesian_2d(x, y)
+        .map_err(|e| e.to_string())
+}
+
+/// The legend box of the labelled series, at `position`.
+pub(crate) fn legend<'a, DB: plotters::prelude::DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    position: plotters::chart::SeriesLabelPosition,
+) -> Result<(), String> {
+    use plotters::prelude::*;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(position)
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 /// Something drawable on any plotters backend.
 pub(crate) trait Drawable {
     fn draw<DB: plotters::prelude::DrawingBackend>(

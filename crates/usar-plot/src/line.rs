@@ -79,16 +79,8 @@ impl Drawable for LineChart {
         area: &DrawingArea<DB, plotters::coord::Shift>,
     ) -> Result<(), String> {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-        area.fill(&WHITE).map_err(e)?;
         let ((x0, x1), (y0, y1)) = self.ranges();
-        let mut chart = ChartBuilder::on(area)
-            .caption(&self.title, ("sans-serif", 24))
-            .margin(16)
-            .margin_right(40)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(e)?;
+        let mut chart = crate::frame(area, &self.title, x0..x1, y0..y1, 48)?;
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
@@ -128,14 +120,7 @@ impl Drawable for LineChart {
                 });
         }
         if self.series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .position(SeriesLabelPosition::LowerRight)
-                .draw()
-                .map_err(e)?;
+            crate::legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         }
         Ok(())
     }
