@@ -10,6 +10,7 @@ use crate::driver::PathFollower;
 use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 use crate::semantic_map::SemanticMap;
+use crate::travel_time::TravelTimes;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::collections::BTreeMap;
@@ -159,6 +160,8 @@ pub struct TeamMission {
     measures: Measures,
     sizer: TeamSizer,
     planner: GridAStar,
+    /// b(p, r) of the current bidder's paths, memoised along its distance field.
+    travel_times: TravelTimes,
     strategy_rng: Pcg64Mcg,
     radio_rng: Pcg64Mcg,
     assigned_per_label: BTreeMap<RoomLabel, u32>,
@@ -315,6 +318,7 @@ impl TeamMission {
             semantic,
             measures,
             planner: GridAStar::new(),
+            travel_times: TravelTimes::new(),
             strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
             radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
             assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
@@ -711,18 +715,22 @@ impl TeamMission {
             })
             .collect();
         let sr = self.config.exploration.coordination == crate::coordination::Coordination::Sr;
+        // i(p) depends on the room and its perceived label only: inferred once per pair.
+        let mut sizes: BTreeMap<(Option<usize>, Option<RoomLabel>), usize> = BTreeMap::new();
         let ideal: Vec<usize> = rooms
             .iter()
             .zip(&labels)
-            .map(|(r, &label)| {
+            .map(|(&r, &label)| {
                 if sr {
                     return 1;
                 }
-                self.sizer.ideal(
-                    r.map(|k| &self.semantic.rooms()[k]),
-                    label,
-                    r.map_or(0.0, |k| self.semantic.perceived_fraction(k)),
-                )
+                *sizes.entry((r, label)).or_insert_with(|| {
+                    self.sizer.ideal(
+                        r.map(|k| &self.semantic.rooms()[k]),
+                        label,
+                        r.map_or(0.0, |k| self.semantic.perceived_fraction(k)),
+                    )
+                })
             })
             .collect();
         // Path lengths and times from each bidder, on the coarse grid.
@@ -746,6 +754,8 @@ impl TeamMission {
                 &source.into_iter().collect::<Vec<_>>(),
                 usar_map::planning::Connectivity::Eight,
             );
+            let travel_times = &mut self.travel_times;
+            travel_times.reset(&agent.field, pose.theta);
             let row: Vec<Option<crate::bids::Travel>> = cands
                 .iter()
                 .zip(&visited)
@@ -762,8 +772,7 @@ impl TeamMission {
                     let cells = agent.field.distance_cells(goal)?;
                     let length_m = cells * cg.resolution_m;
                     let time_s = if needs_time {
-                        let path = agent.field.path_to_source(goal)?;
-                        grid_travel_time_s(&path.cells, length_m, pose.theta, &spec)
+                        travel_times.time_s(&agent.field, goal, length_m, &spec)?
                     } else {
                         length_m / spec.max_linear_mps
                     };
@@ -1123,48 +1132,6 @@ impl TeamMission {
         }
     }
 }
-
-/// b(p, r) on a grid path given from the goal back to the robot (`cells`, as a distance field's
-/// descent returns it) of `length_m`: length / v + Σ|turns| / ω, the turns being the robot's
-/// turn onto the first step and the 45° multiples between consecutive steps — what
-/// [`crate::criteria::travel_time_s`] gives on the cell centres, without a trigonometric call
-/// per step.
-fn grid_travel_time_s(
-    cells: &[Cell],
-    length_m: f64,
-    theta: f64,
-    spec: &usar_sim::RobotSpec,
-) -> f64 {
-    let step_dir = |a: Cell, b: Cell| -> usize {
-        usar_world::NEIGHBORS8
-            .iter()
-            .position(|&(dc, dr)| (b.col - a.col, b.row - a.row) == (dc, dr))
-            .map_or(0, |k| DIRECTION_OCTANT[k])
-    };
-    let mut turning = 0.0;
-    let mut previous: Option<usize> = None;
-    for w in cells.windows(2).rev() {
-        // Walking from the robot (end of `cells`) towards the goal.
-        let d = step_dir(w[1], w[0]);
-        match previous {
-            None => {
-                let heading = d as f64 * std::f64::consts::FRAC_PI_4;
-                turning += usar_world::normalize_angle(heading - theta).abs();
-            }
-            Some(p) => {
-                let k = (d + 8 - p) % 8;
-                turning += k.min(8 - k) as f64 * std::f64::consts::FRAC_PI_4;
-            }
-        }
-        previous = Some(d);
-    }
-    length_m / spec.max_linear_mps + turning / spec.max_angular_radps
-}
-
-/// The octant (0 = east, counter-clockwise in 45° steps) of each move of
-/// [`usar_world::NEIGHBORS8`] (east, north, west, south, north-east, north-west, south-west,
-/// south-east).
-const DIRECTION_OCTANT: [usize; 8] = [0, 2, 4, 6, 1, 3, 5, 7];
 
 /// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
 fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
