@@ -152,9 +152,8 @@ pub struct TeamMission {
     /// Planning grids from the merged map (full radius, tight radius), built on first use after
     /// each merge.
     nav_grids: Option<[NavGrid; 2]>,
-    /// The same grids for the auctions' path planning, each built on first use after a merge.
-    plan_grids: [Option<NavGrid>; 2],
-    /// The coarse grid bids are priced on, built on first use after each merge.
+    /// The coarse grid bids are priced on, kept in step at each merge (taken out during an
+    /// auction).
     bid_grid: Option<NavGrid>,
     semantic: SemanticMap,
     measures: Measures,
@@ -313,7 +312,6 @@ impl TeamMission {
             victims_seen: Vec::new(),
             samples: Vec::new(),
             nav_grids: None,
-            plan_grids: [None, None],
             bid_grid: None,
             semantic,
             measures,
@@ -404,8 +402,7 @@ impl TeamMission {
             self.time_to_relevant_s = Some(self.sim.time_s());
         }
         self.nav_grids = None;
-        self.plan_grids = [None, None];
-        self.bid_grid = None;
+        self.update_bid_grid();
     }
 
     fn read_thermal(&mut self) {
@@ -596,33 +593,28 @@ impl TeamMission {
 
     /// The coarse grid bids are priced on: a cell is passable when any map cell inside it is
     /// navigable with the tight radius (optimistic, so no doorway closes; the path driven is
-    /// planned on the map itself).
-    fn bid_grid(&mut self) -> NavGrid {
-        if let Some(g) = self.bid_grid.take() {
-            return g;
-        }
+    /// planned on the map itself). Kept in step at every merge: only the coarse cells over map
+    /// cells whose tight navigability may have changed are looked at again.
+    fn update_bid_grid(&mut self) {
         let k = self.config.exploration.bid_grid_factor as i32;
         let fine = *self.base.merged.geometry();
-        let coarse = GridGeometry::new(
-            fine.width.div_ceil(k as u32),
-            fine.height.div_ceil(k as u32),
-            fine.resolution_m * f64::from(k),
-            fine.origin,
-        );
-        let (merged, nav) = (&self.base.merged, &self.base.navigable_tight);
-        NavGrid::from_fn(coarse, |c| {
-            for dr in 0..k {
-                for dc in 0..k {
-                    let f = Cell::new(c.col * k + dc, c.row * k + dr);
-                    if let Some(i) = fine.checked_index(f)
-                        && nav.is_navigable(merged, i)
-                    {
-                        return false;
-                    }
-                }
-            }
-            true
-        })
+        let grid = self.bid_grid.get_or_insert_with(|| {
+            NavGrid::all_blocked(GridGeometry::new(
+                fine.width.div_ceil(k as u32),
+                fine.height.div_ceil(k as u32),
+                fine.resolution_m * f64::from(k),
+                fine.origin,
+            ))
+        });
+        let tight = &self.base.nav_grids[1];
+        for &i in self.base.last_touched_tight() {
+            let f = fine.cell_of_index(i as usize);
+            let c = Cell::new(f.col / k, f.row / k);
+            let passable = (0..k).any(|dr| {
+                (0..k).any(|dc| tight.is_passable(Cell::new(c.col * k + dc, c.row * k + dr)))
+            });
+            grid.set_passable(c, passable);
+        }
     }
 
     /// A path on the map from robot `i` to `goal`: with the full radius if possible, else with
@@ -632,15 +624,12 @@ impl TeamMission {
         let here = self.sim.robot(self.agents[i].id).pose.position();
         let mut found = None;
         for radius in 0..2 {
-            // Built on first use after a merge; the tight grid only when the full one fails.
-            if self.plan_grids[radius].is_none() {
-                let merged = &self.base.merged;
-                let nav = [&self.base.navigable, &self.base.navigable_tight][radius];
-                self.plan_grids[radius] = Some(NavGrid::from_fn(g, |c| {
-                    !nav.is_navigable(merged, g.index(c))
-                }));
-            }
-            let mut grid = self.plan_grids[radius].take().expect("built above");
+            // The base station's grid, lent for the query (start and goal opened, then closed
+            // again).
+            let mut grid = std::mem::replace(
+                &mut self.base.nav_grids[radius],
+                NavGrid::all_blocked(GridGeometry::new(0, 0, 1.0, g.origin)),
+            );
             let start = self.source_cells(&grid, here, false)[0];
             let was = (grid.is_passable(start), grid.is_passable(goal));
             grid.set_passable(start, true);
@@ -650,7 +639,7 @@ impl TeamMission {
                     .plan(&grid, start, goal, usar_map::planning::Connectivity::Eight);
             grid.set_passable(start, was.0);
             grid.set_passable(goal, was.1);
-            self.plan_grids[radius] = Some(grid);
+            self.base.nav_grids[radius] = grid;
             if let Some(p) = path {
                 found = Some(p.cells.iter().map(|&c| g.cell_center(c)).collect());
                 break;
@@ -734,7 +723,7 @@ impl TeamMission {
             })
             .collect();
         // Path lengths and times from each bidder, on the coarse grid.
-        let grid = self.bid_grid();
+        let grid = self.bid_grid.take().expect("built at every merge");
         let cg = *grid.geometry();
         let needs_time = matches!(
             self.config.exploration.strategy,
