@@ -29,4 +29,4 @@ pub mod travel_time;
 
 pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
 pub use self::mission::{MissionError, TeamMission};
-pub use self::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
+pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};

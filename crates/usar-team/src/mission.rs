@@ -81,6 +81,14 @@ const ESCAPES: [Velocity; 6] = [
 /// (behind furniture), and would draw robot after robot.
 const VISITED_CELLS: i32 = 3;
 const VISITED_BLACKLIST_S: f64 = 60.0;
+/// With auctions, once a robot has reached its target and scanned there, the frontier cells still
+/// left within this distance of it are taken out of the candidates for good
+/// ([`usar_map::FrontierTracker::retire_near`]): a 20 m laser that stood this near them could
+/// not see past them. Without it, frontier cells along walls that the 0.2 m map cells straddle
+/// (free on the near half, the wall's far side never seen) form long clusters that draw robot
+/// after robot to the same corridor for the whole mission; the paper's mapping is error-free
+/// (§3.1) and has no such frontiers.
+const UNOBSERVABLE_RADIUS_M: f64 = 2.0;
 /// A robot keeping its target occupies the candidate within this many map cells of it, and a
 /// robot allocated a candidate this near its target keeps its path.
 const KEPT_TARGET_CELLS: i32 = 5;
@@ -166,6 +174,12 @@ pub struct TeamMission {
     assigned_per_label: BTreeMap<RoomLabel, u32>,
     /// Candidates a robot reached (auctions): not offered to anyone for a while.
     visited: Vec<(Cell, f64)>,
+    allocations: Vec<crate::outcome::Allocation>,
+    /// Per room: the last i(p) inferred, with the perceived label and known fraction it was
+    /// inferred from.
+    team_sizes: Vec<Option<(Option<RoomLabel>, f64, usize)>>,
+    /// Where and when robots reached their targets, waiting for a scan there to be merged.
+    arrivals: Vec<(Point2, f64)>,
     relevant_target: f64,
     time_to_relevant_s: Option<f64>,
 }
@@ -321,6 +335,9 @@ impl TeamMission {
             radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
             assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
             visited: Vec::new(),
+            allocations: Vec::new(),
+            team_sizes: Vec::new(),
+            arrivals: Vec::new(),
             time_to_relevant_s: None,
         })
     }
@@ -403,6 +420,15 @@ impl TeamMission {
         }
         self.nav_grids = None;
         self.update_bid_grid();
+        // Arrivals whose scan on the spot is in the merged map now.
+        let now = self.sim.time_s();
+        let settled = now - self.config.timing.scan_period_s;
+        let g = *self.base.merged.geometry();
+        let radius = (UNOBSERVABLE_RADIUS_M / g.resolution_m).round() as i32;
+        for &(p, _) in self.arrivals.iter().filter(|&&(_, t)| t <= settled) {
+            self.base.frontiers.retire_near(g.world_to_cell(p), radius);
+        }
+        self.arrivals.retain(|&(_, t)| t > settled);
     }
 
     fn read_thermal(&mut self) {
@@ -704,22 +730,29 @@ impl TeamMission {
             })
             .collect();
         let sr = self.config.exploration.coordination == crate::coordination::Coordination::Sr;
-        // i(p) depends on the room and its perceived label only: inferred once per pair.
-        let mut sizes: BTreeMap<(Option<usize>, Option<RoomLabel>), usize> = BTreeMap::new();
+        // i(p) depends on the room, its perceived label and how much of it is known: inferred
+        // again only when the label or the known fraction changed since the room's last one.
         let ideal: Vec<usize> = rooms
             .iter()
             .zip(&labels)
             .map(|(&r, &label)| {
-                if sr {
+                let Some(k) = r.filter(|_| !sr) else {
                     return 1;
+                };
+                let perceived = self.semantic.perceived_fraction(k);
+                if self.team_sizes.len() <= k {
+                    self.team_sizes.resize(k + 1, None);
                 }
-                *sizes.entry((r, label)).or_insert_with(|| {
-                    self.sizer.ideal(
-                        r.map(|k| &self.semantic.rooms()[k]),
-                        label,
-                        r.map_or(0.0, |k| self.semantic.perceived_fraction(k)),
-                    )
-                })
+                match self.team_sizes[k] {
+                    Some((l, f, n)) if l == label && f == perceived => n,
+                    _ => {
+                        let n = self
+                            .sizer
+                            .ideal(Some(&self.semantic.rooms()[k]), label, perceived);
+                        self.team_sizes[k] = Some((label, perceived, n));
+                        n
+                    }
+                }
             })
             .collect();
         // Path lengths and times from each bidder, on the coarse grid.
@@ -826,6 +859,19 @@ impl TeamMission {
                     match self.plan_path(i, target) {
                         Some(waypoints) => {
                             any = true;
+                            let info = &infos[c];
+                            self.allocations.push(crate::outcome::Allocation {
+                                time_s: now,
+                                robot: i,
+                                x_m: info.position.x,
+                                y_m: info.position.y,
+                                label: info.label,
+                                relevance: self.config.exploration.hypothesis.relevance(info.label),
+                                frontier_cells: info.frontier_cells,
+                                path_m: travel[k][c].map_or(f64::NAN, |t| t.length_m),
+                                utility: bids[k][c].unwrap_or(f64::NAN),
+                                ideal_robots: ideal[c],
+                            });
                             let label = self.semantic.room_of(g.index(target)).or(rooms[c]);
                             if let Some(k) = label {
                                 *self
@@ -1023,6 +1069,7 @@ impl TeamMission {
                     a.blacklist.push((reached, now + REACHED_BLACKLIST_S));
                     if auctioned {
                         self.visited.push((reached, now + VISITED_BLACKLIST_S));
+                        self.arrivals.push((r.pose.position(), now));
                     }
                     a.target = None;
                     who.push(i);
@@ -1117,6 +1164,7 @@ impl TeamMission {
             time_to_relevant_s: self.time_to_relevant_s,
             relevant_target: self.relevant_target,
             assigned_per_label: self.assigned_per_label,
+            allocations: self.allocations,
             merged_map: self.base.merged,
         }
     }
