@@ -661,6 +661,13 @@ pub struct TeamRunArgs {
     /// A robot fails: ROBOT@SECONDS (0-based robot index), repeatable.
     #[arg(long = "fail")]
     pub failures: Vec<String>,
+    /// Also draw the explored map with the robots' trajectories to this PNG file.
+    #[arg(long)]
+    pub png: Option<std::path::PathBuf>,
+    /// Also write every allocation of the auctions (time, robot, candidate, perceived label,
+    /// S(p), frontier length, path length, winning bid, i(p)) to this CSV file.
+    #[arg(long)]
+    pub trace: Option<std::path::PathBuf>,
     /// Print the run as JSON (no progress bar).
     #[arg(long)]
     pub json: bool,

@@ -21,6 +21,8 @@ pub struct FrontierTracker {
     changed: Vec<u32>,
     visit_mark: Vec<u32>,
     visit_epoch: u32,
+    /// Cells left out of the clusters ([`FrontierTracker::retire_near`]).
+    retired: Vec<bool>,
 }
 
 /// A group of 8-connected frontier cells.
@@ -57,6 +59,7 @@ impl FrontierTracker {
             changed: Vec::new(),
             visit_mark: vec![0; n],
             visit_epoch: 0,
+            retired: vec![false; n],
         };
         for i in 0..n {
             tracker.refresh(grid, i);
@@ -76,6 +79,31 @@ impl FrontierTracker {
     #[inline]
     pub fn is_frontier(&self, index: usize) -> bool {
         self.slot[index] != ABSENT
+    }
+
+    /// Takes the frontier cells within `radius_cells` (Euclidean, centre to centre) of `center`
+    /// out of the clusters for the rest of the tracker's life, and returns how many. For an
+    /// explorer that stood there and scanned: what it still could not see from so near lies
+    /// where its sensor cannot look (behind furniture, or inside a wall that the map's cells
+    /// straddle), and would draw robot after robot.
+    pub fn retire_near(&mut self, center: Cell, radius_cells: i32) -> usize {
+        let mut count = 0;
+        let r2 = radius_cells * radius_cells;
+        for dr in -radius_cells..=radius_cells {
+            for dc in -radius_cells..=radius_cells {
+                let (c, r) = (center.col + dc, center.row + dr);
+                if dc * dc + dr * dr > r2 || c < 0 || r < 0 || c >= self.width || r >= self.height
+                {
+                    continue;
+                }
+                let i = r as usize * self.width as usize + c as usize;
+                if self.slot[i] != ABSENT && !self.retired[i] {
+                    self.retired[i] = true;
+                    count += 1;
+                }
+            }
+        }
+        count
     }
 
     /// Frontier cell indices, sorted.
@@ -163,7 +191,7 @@ impl FrontierTracker {
         let mut stack = Vec::new();
         let mut members: Vec<u32> = Vec::new();
         for seed in self.sorted_indices() {
-            if self.visit_mark[seed as usize] == epoch {
+            if self.visit_mark[seed as usize] == epoch || self.retired[seed as usize] {
                 continue;
             }
             members.clear();
@@ -178,7 +206,7 @@ impl FrontierTracker {
                         continue;
                     }
                     let j = rr as usize * w + cc as usize;
-                    if self.slot[j] != ABSENT && self.visit_mark[j] != epoch {
+                    if self.slot[j] != ABSENT && self.visit_mark[j] != epoch && !self.retired[j] {
                         self.visit_mark[j] = epoch;
                         stack.push(j as u32);
                     }

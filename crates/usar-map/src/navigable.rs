@@ -45,6 +45,24 @@ impl NavigableMap {
 
     /// Applies the class changes of `changed` cells.
     pub fn update_from(&mut self, grid: &OccupancyGrid, changed: &[u32]) {
+        self.update(grid, changed, None);
+    }
+
+    /// Applies the class changes of `changed` cells and appends to `touched` every cell whose
+    /// [`NavigableMap::is_navigable`] may have changed: the changed cells themselves and the
+    /// cells that got their first occupied neighbour within the radius or lost their last one
+    /// (a cell may appear more than once). Keeps a planner's grid in step without a rebuild.
+    pub fn update_from_logged(
+        &mut self,
+        grid: &OccupancyGrid,
+        changed: &[u32],
+        touched: &mut Vec<u32>,
+    ) {
+        touched.extend_from_slice(changed);
+        self.update(grid, changed, Some(touched));
+    }
+
+    fn update(&mut self, grid: &OccupancyGrid, changed: &[u32], mut touched: Option<&mut Vec<u32>>) {
         let (w, h) = (self.geometry.width as i32, self.geometry.height as i32);
         for &i in changed {
             let i = i as usize;
@@ -58,10 +76,17 @@ impl NavigableMap {
                 let (cc, rr) = (c + dc, r + dr);
                 if cc >= 0 && rr >= 0 && cc < w && rr < h {
                     let j = rr as usize * w as usize + cc as usize;
+                    let count = &mut self.near_occupied[j];
                     if now {
-                        self.near_occupied[j] += 1;
+                        *count += 1;
                     } else {
-                        self.near_occupied[j] -= 1;
+                        *count -= 1;
+                    }
+                    // 0 → 1 or 1 → 0: the cell's navigability may flip.
+                    if *count == u16::from(now)
+                        && let Some(t) = touched.as_deref_mut()
+                    {
+                        t.push(j as u32);
                     }
                 }
             }
@@ -121,6 +146,33 @@ mod tests {
             nav.update_from(&grid, &changed);
             let fresh = NavigableMap::new(&grid, 0.3);
             assert_eq!(nav.near_occupied, fresh.near_occupied);
+        }
+        let mut touched = Vec::new();
+        let mut logged = NavigableMap::new(&OccupancyGrid::new(g, OccupancyParams::default()), 0.3);
+        let mut planner_view: Vec<bool> = vec![false; g.len()];
+        let mut fresh_grid = OccupancyGrid::new(g, OccupancyParams::default());
+        for (x, r) in [(1.0, 2.0f32), (3.0, 1.0), (2.0, 0.6), (4.5, 2.2)] {
+            let ranges = (0..90)
+                .map(|i| if i % 7 == 0 { f32::INFINITY } else { r })
+                .collect();
+            fresh_grid.integrate_scan(&LaserScan {
+                pose: Pose2::new(x, 2.0, 0.3),
+                angle_min_rad: -3.1,
+                angle_increment_rad: 0.07,
+                max_range_m: 2.5,
+                ranges_m: ranges,
+            });
+            changed.clear();
+            fresh_grid.drain_changed(&mut changed);
+            touched.clear();
+            logged.update_from_logged(&fresh_grid, &changed, &mut touched);
+            for &j in &touched {
+                planner_view[j as usize] = logged.is_navigable(&fresh_grid, j as usize);
+            }
+            let expected: Vec<bool> = (0..g.len())
+                .map(|j| logged.is_navigable(&fresh_grid, j))
+                .collect();
+            assert_eq!(planner_view, expected);
         }
         for i in 0..g.len() {
             if nav.is_navigable(&grid, i) {

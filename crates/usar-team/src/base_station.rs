@@ -3,6 +3,7 @@
 //! the coverage count, all updated from one log of class changes.
 
 use crate::coverage::CoverageCounter;
+use usar_map::planning::NavGrid;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
 use usar_world::{GridGeometry, Scene};
 
@@ -15,7 +16,13 @@ pub struct BaseStation {
     /// nothing is reachable with the full radius, e.g. a doorway narrowed by sensor noise.
     pub navigable_tight: NavigableMap,
     pub coverage: CoverageCounter,
+    /// The planners' view of `navigable` and `navigable_tight` (passable = navigable), kept in
+    /// step at every merge from the cells whose navigability may have changed.
+    pub nav_grids: [NavGrid; 2],
     changed: Vec<u32>,
+    /// Cells whose tight navigability may have changed at the last merge.
+    touched_tight: Vec<u32>,
+    touched: Vec<u32>,
 }
 
 impl BaseStation {
@@ -34,8 +41,12 @@ impl BaseStation {
             navigable: NavigableMap::new(&merged, radius_m),
             navigable_tight: NavigableMap::new(&merged, tight_radius_m),
             coverage: CoverageCounter::new(scene, start, &geometry),
+            // Nothing is known yet, so nothing is navigable.
+            nav_grids: [NavGrid::all_blocked(geometry), NavGrid::all_blocked(geometry)],
             merged,
             changed: Vec::new(),
+            touched_tight: Vec::new(),
+            touched: Vec::new(),
         }
     }
 
@@ -45,10 +56,31 @@ impl BaseStation {
         self.changed.clear();
         self.merged.drain_changed(&mut self.changed);
         self.frontiers.update_from(&self.merged, &self.changed);
-        self.navigable.update_from(&self.merged, &self.changed);
+        self.touched.clear();
+        self.navigable
+            .update_from_logged(&self.merged, &self.changed, &mut self.touched);
+        self.touched_tight.clear();
         self.navigable_tight
-            .update_from(&self.merged, &self.changed);
+            .update_from_logged(&self.merged, &self.changed, &mut self.touched_tight);
+        let g = *self.merged.geometry();
+        for (k, (nav, touched)) in [
+            (&self.navigable, &self.touched),
+            (&self.navigable_tight, &self.touched_tight),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for &i in touched {
+                let i = i as usize;
+                self.nav_grids[k].set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
+            }
+        }
         self.coverage.update_from(&self.merged, &self.changed);
+    }
+
+    /// The cells whose tight navigability may have changed at the last merge (with repeats).
+    pub fn last_touched_tight(&self) -> &[u32] {
+        &self.touched_tight
     }
 
     /// The cells whose class changed at the last merge.

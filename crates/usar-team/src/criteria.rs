@@ -24,26 +24,29 @@ pub struct Hypothesis {
 }
 
 impl Hypothesis {
-    /// "Victims are in big rooms": big 1, small 0, corridor 0.15 (paper 002 §3.2); medium rooms,
-    /// which the paper does not rate, 0.5.
+    /// "Victims are in big rooms": big 1, small 0, corridor 0.15 (paper 002 §3.2). Medium rooms,
+    /// which §3.2 does not rate, are not where the victims are believed to be: 0, like small
+    /// rooms. (S runs from 0, not relevant, to 1, relevant; the relevant area of Tables 4 and 6
+    /// is the big rooms' area only, and only corridors get an intermediate value, "as corridors
+    /// are usually important to reach relevant rooms".)
     pub fn big_rooms() -> Self {
         Self::of(
             "big",
             [
                 (RoomLabel::BigRoom, 1.0),
-                (RoomLabel::MediumRoom, 0.5),
+                (RoomLabel::MediumRoom, 0.0),
                 (RoomLabel::SmallRoom, 0.0),
             ],
         )
     }
 
-    /// "Victims are in small rooms": small 1, big 0, corridor 0.15, medium 0.5.
+    /// "Victims are in small rooms": small 1, big 0, medium 0, corridor 0.15.
     pub fn small_rooms() -> Self {
         Self::of(
             "small",
             [
                 (RoomLabel::SmallRoom, 1.0),
-                (RoomLabel::MediumRoom, 0.5),
+                (RoomLabel::MediumRoom, 0.0),
                 (RoomLabel::BigRoom, 0.0),
             ],
         )

@@ -25,7 +25,8 @@ pub mod paper_run;
 pub mod report;
 pub mod semantic_map;
 pub mod team_size;
+pub mod travel_time;
 
 pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
 pub use self::mission::{MissionError, TeamMission};
-pub use self::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
+pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};

@@ -10,6 +10,7 @@ use crate::driver::PathFollower;
 use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 use crate::semantic_map::SemanticMap;
+use crate::travel_time::TravelTimes;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::collections::BTreeMap;
@@ -80,6 +81,14 @@ const ESCAPES: [Velocity; 6] = [
 /// (behind furniture), and would draw robot after robot.
 const VISITED_CELLS: i32 = 3;
 const VISITED_BLACKLIST_S: f64 = 60.0;
+/// With auctions, once a robot has reached its target and scanned there, the frontier cells still
+/// left within this distance of it are taken out of the candidates for good
+/// ([`usar_map::FrontierTracker::retire_near`]): a 20 m laser that stood this near them could
+/// not see past them. Without it, frontier cells along walls that the 0.2 m map cells straddle
+/// (free on the near half, the wall's far side never seen) form long clusters that draw robot
+/// after robot to the same corridor for the whole mission; the paper's mapping is error-free
+/// (§3.1) and has no such frontiers.
+const UNOBSERVABLE_RADIUS_M: f64 = 2.0;
 /// A robot keeping its target occupies the candidate within this many map cells of it, and a
 /// robot allocated a candidate this near its target keeps its path.
 const KEPT_TARGET_CELLS: i32 = 5;
@@ -151,19 +160,26 @@ pub struct TeamMission {
     /// Planning grids from the merged map (full radius, tight radius), built on first use after
     /// each merge.
     nav_grids: Option<[NavGrid; 2]>,
-    /// The same grids for the auctions' path planning, each built on first use after a merge.
-    plan_grids: [Option<NavGrid>; 2],
-    /// The coarse grid bids are priced on, built on first use after each merge.
+    /// The coarse grid bids are priced on, kept in step at each merge (taken out during an
+    /// auction).
     bid_grid: Option<NavGrid>,
     semantic: SemanticMap,
     measures: Measures,
     sizer: TeamSizer,
     planner: GridAStar,
+    /// b(p, r) of the current bidder's paths, memoised along its distance field.
+    travel_times: TravelTimes,
     strategy_rng: Pcg64Mcg,
     radio_rng: Pcg64Mcg,
     assigned_per_label: BTreeMap<RoomLabel, u32>,
     /// Candidates a robot reached (auctions): not offered to anyone for a while.
     visited: Vec<(Cell, f64)>,
+    allocations: Vec<crate::outcome::Allocation>,
+    /// Per room: the last i(p) inferred, with the perceived label and known fraction it was
+    /// inferred from.
+    team_sizes: Vec<Option<(Option<RoomLabel>, f64, usize)>>,
+    /// Where and when robots reached their targets, waiting for a scan there to be merged.
+    arrivals: Vec<(Point2, f64)>,
     relevant_target: f64,
     time_to_relevant_s: Option<f64>,
 }
@@ -310,15 +326,18 @@ impl TeamMission {
             victims_seen: Vec::new(),
             samples: Vec::new(),
             nav_grids: None,
-            plan_grids: [None, None],
             bid_grid: None,
             semantic,
             measures,
             planner: GridAStar::new(),
+            travel_times: TravelTimes::new(),
             strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
             radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
             assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
             visited: Vec::new(),
+            allocations: Vec::new(),
+            team_sizes: Vec::new(),
+            arrivals: Vec::new(),
             time_to_relevant_s: None,
         })
     }
@@ -400,8 +419,16 @@ impl TeamMission {
             self.time_to_relevant_s = Some(self.sim.time_s());
         }
         self.nav_grids = None;
-        self.plan_grids = [None, None];
-        self.bid_grid = None;
+        self.update_bid_grid();
+        // Arrivals whose scan on the spot is in the merged map now.
+        let now = self.sim.time_s();
+        let settled = now - self.config.timing.scan_period_s;
+        let g = *self.base.merged.geometry();
+        let radius = (UNOBSERVABLE_RADIUS_M / g.resolution_m).round() as i32;
+        for &(p, _) in self.arrivals.iter().filter(|&&(_, t)| t <= settled) {
+            self.base.frontiers.retire_near(g.world_to_cell(p), radius);
+        }
+        self.arrivals.retain(|&(_, t)| t > settled);
     }
 
     fn read_thermal(&mut self) {
@@ -592,33 +619,28 @@ impl TeamMission {
 
     /// The coarse grid bids are priced on: a cell is passable when any map cell inside it is
     /// navigable with the tight radius (optimistic, so no doorway closes; the path driven is
-    /// planned on the map itself).
-    fn bid_grid(&mut self) -> NavGrid {
-        if let Some(g) = self.bid_grid.take() {
-            return g;
-        }
+    /// planned on the map itself). Kept in step at every merge: only the coarse cells over map
+    /// cells whose tight navigability may have changed are looked at again.
+    fn update_bid_grid(&mut self) {
         let k = self.config.exploration.bid_grid_factor as i32;
         let fine = *self.base.merged.geometry();
-        let coarse = GridGeometry::new(
-            fine.width.div_ceil(k as u32),
-            fine.height.div_ceil(k as u32),
-            fine.resolution_m * f64::from(k),
-            fine.origin,
-        );
-        let (merged, nav) = (&self.base.merged, &self.base.navigable_tight);
-        NavGrid::from_fn(coarse, |c| {
-            for dr in 0..k {
-                for dc in 0..k {
-                    let f = Cell::new(c.col * k + dc, c.row * k + dr);
-                    if let Some(i) = fine.checked_index(f)
-                        && nav.is_navigable(merged, i)
-                    {
-                        return false;
-                    }
-                }
-            }
-            true
-        })
+        let grid = self.bid_grid.get_or_insert_with(|| {
+            NavGrid::all_blocked(GridGeometry::new(
+                fine.width.div_ceil(k as u32),
+                fine.height.div_ceil(k as u32),
+                fine.resolution_m * f64::from(k),
+                fine.origin,
+            ))
+        });
+        let tight = &self.base.nav_grids[1];
+        for &i in self.base.last_touched_tight() {
+            let f = fine.cell_of_index(i as usize);
+            let c = Cell::new(f.col / k, f.row / k);
+            let passable = (0..k).any(|dr| {
+                (0..k).any(|dc| tight.is_passable(Cell::new(c.col * k + dc, c.row * k + dr)))
+            });
+            grid.set_passable(c, passable);
+        }
     }
 
     /// A path on the map from robot `i` to `goal`: with the full radius if possible, else with
@@ -628,15 +650,12 @@ impl TeamMission {
         let here = self.sim.robot(self.agents[i].id).pose.position();
         let mut found = None;
         for radius in 0..2 {
-            // Built on first use after a merge; the tight grid only when the full one fails.
-            if self.plan_grids[radius].is_none() {
-                let merged = &self.base.merged;
-                let nav = [&self.base.navigable, &self.base.navigable_tight][radius];
-                self.plan_grids[radius] = Some(NavGrid::from_fn(g, |c| {
-                    !nav.is_navigable(merged, g.index(c))
-                }));
-            }
-            let mut grid = self.plan_grids[radius].take().expect("built above");
+            // The base station's grid, lent for the query (start and goal opened, then closed
+            // again).
+            let mut grid = std::mem::replace(
+                &mut self.base.nav_grids[radius],
+                NavGrid::all_blocked(GridGeometry::new(0, 0, 1.0, g.origin)),
+            );
             let start = self.source_cells(&grid, here, false)[0];
             let was = (grid.is_passable(start), grid.is_passable(goal));
             grid.set_passable(start, true);
@@ -646,7 +665,7 @@ impl TeamMission {
                     .plan(&grid, start, goal, usar_map::planning::Connectivity::Eight);
             grid.set_passable(start, was.0);
             grid.set_passable(goal, was.1);
-            self.plan_grids[radius] = Some(grid);
+            self.base.nav_grids[radius] = grid;
             if let Some(p) = path {
                 found = Some(p.cells.iter().map(|&c| g.cell_center(c)).collect());
                 break;
@@ -711,22 +730,33 @@ impl TeamMission {
             })
             .collect();
         let sr = self.config.exploration.coordination == crate::coordination::Coordination::Sr;
+        // i(p) depends on the room, its perceived label and how much of it is known: inferred
+        // again only when the label or the known fraction changed since the room's last one.
         let ideal: Vec<usize> = rooms
             .iter()
             .zip(&labels)
-            .map(|(r, &label)| {
-                if sr {
+            .map(|(&r, &label)| {
+                let Some(k) = r.filter(|_| !sr) else {
                     return 1;
+                };
+                let perceived = self.semantic.perceived_fraction(k);
+                if self.team_sizes.len() <= k {
+                    self.team_sizes.resize(k + 1, None);
                 }
-                self.sizer.ideal(
-                    r.map(|k| &self.semantic.rooms()[k]),
-                    label,
-                    r.map_or(0.0, |k| self.semantic.perceived_fraction(k)),
-                )
+                match self.team_sizes[k] {
+                    Some((l, f, n)) if l == label && f == perceived => n,
+                    _ => {
+                        let n = self
+                            .sizer
+                            .ideal(Some(&self.semantic.rooms()[k]), label, perceived);
+                        self.team_sizes[k] = Some((label, perceived, n));
+                        n
+                    }
+                }
             })
             .collect();
         // Path lengths and times from each bidder, on the coarse grid.
-        let grid = self.bid_grid();
+        let grid = self.bid_grid.take().expect("built at every merge");
         let cg = *grid.geometry();
         let needs_time = matches!(
             self.config.exploration.strategy,
@@ -746,6 +776,8 @@ impl TeamMission {
                 &source.into_iter().collect::<Vec<_>>(),
                 usar_map::planning::Connectivity::Eight,
             );
+            let travel_times = &mut self.travel_times;
+            travel_times.reset(&agent.field, pose.theta);
             let row: Vec<Option<crate::bids::Travel>> = cands
                 .iter()
                 .zip(&visited)
@@ -762,8 +794,7 @@ impl TeamMission {
                     let cells = agent.field.distance_cells(goal)?;
                     let length_m = cells * cg.resolution_m;
                     let time_s = if needs_time {
-                        let path = agent.field.path_to_source(goal)?;
-                        grid_travel_time_s(&path.cells, length_m, pose.theta, &spec)
+                        travel_times.time_s(&agent.field, goal, length_m, &spec)?
                     } else {
                         length_m / spec.max_linear_mps
                     };
@@ -828,6 +859,19 @@ impl TeamMission {
                     match self.plan_path(i, target) {
                         Some(waypoints) => {
                             any = true;
+                            let info = &infos[c];
+                            self.allocations.push(crate::outcome::Allocation {
+                                time_s: now,
+                                robot: i,
+                                x_m: info.position.x,
+                                y_m: info.position.y,
+                                label: info.label,
+                                relevance: self.config.exploration.hypothesis.relevance(info.label),
+                                frontier_cells: info.frontier_cells,
+                                path_m: travel[k][c].map_or(f64::NAN, |t| t.length_m),
+                                utility: bids[k][c].unwrap_or(f64::NAN),
+                                ideal_robots: ideal[c],
+                            });
                             let label = self.semantic.room_of(g.index(target)).or(rooms[c]);
                             if let Some(k) = label {
                                 *self
@@ -1025,6 +1069,7 @@ impl TeamMission {
                     a.blacklist.push((reached, now + REACHED_BLACKLIST_S));
                     if auctioned {
                         self.visited.push((reached, now + VISITED_BLACKLIST_S));
+                        self.arrivals.push((r.pose.position(), now));
                     }
                     a.target = None;
                     who.push(i);
@@ -1119,52 +1164,11 @@ impl TeamMission {
             time_to_relevant_s: self.time_to_relevant_s,
             relevant_target: self.relevant_target,
             assigned_per_label: self.assigned_per_label,
+            allocations: self.allocations,
             merged_map: self.base.merged,
         }
     }
 }
-
-/// b(p, r) on a grid path given from the goal back to the robot (`cells`, as a distance field's
-/// descent returns it) of `length_m`: length / v + Σ|turns| / ω, the turns being the robot's
-/// turn onto the first step and the 45° multiples between consecutive steps — what
-/// [`crate::criteria::travel_time_s`] gives on the cell centres, without a trigonometric call
-/// per step.
-fn grid_travel_time_s(
-    cells: &[Cell],
-    length_m: f64,
-    theta: f64,
-    spec: &usar_sim::RobotSpec,
-) -> f64 {
-    let step_dir = |a: Cell, b: Cell| -> usize {
-        usar_world::NEIGHBORS8
-            .iter()
-            .position(|&(dc, dr)| (b.col - a.col, b.row - a.row) == (dc, dr))
-            .map_or(0, |k| DIRECTION_OCTANT[k])
-    };
-    let mut turning = 0.0;
-    let mut previous: Option<usize> = None;
-    for w in cells.windows(2).rev() {
-        // Walking from the robot (end of `cells`) towards the goal.
-        let d = step_dir(w[1], w[0]);
-        match previous {
-            None => {
-                let heading = d as f64 * std::f64::consts::FRAC_PI_4;
-                turning += usar_world::normalize_angle(heading - theta).abs();
-            }
-            Some(p) => {
-                let k = (d + 8 - p) % 8;
-                turning += k.min(8 - k) as f64 * std::f64::consts::FRAC_PI_4;
-            }
-        }
-        previous = Some(d);
-    }
-    length_m / spec.max_linear_mps + turning / spec.max_angular_radps
-}
-
-/// The octant (0 = east, counter-clockwise in 45° steps) of each move of
-/// [`usar_world::NEIGHBORS8`] (east, north, west, south, north-east, north-west, south-west,
-/// south-east).
-const DIRECTION_OCTANT: [usize; 8] = [0, 2, 4, 6, 1, 3, 5, 7];
 
 /// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
 fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {

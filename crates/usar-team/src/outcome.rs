@@ -41,6 +41,29 @@ pub struct VictimSighting {
     pub time_s: f64,
 }
 
+/// A candidate location given to a robot at an auction (paper 002 §3.3): what the robot chose
+/// and why.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Allocation {
+    pub time_s: f64,
+    pub robot: usize,
+    /// The candidate location, metres.
+    pub x_m: f64,
+    pub y_m: f64,
+    /// The label the semantic mapping module perceived for its room.
+    pub label: Option<RoomLabel>,
+    /// S(p) under the hypothesis (raw, before normalisation).
+    pub relevance: f64,
+    /// A(p): frontier length, cells.
+    pub frontier_cells: usize,
+    /// Path length priced for the bid, metres.
+    pub path_m: f64,
+    /// The winning bid u(p, r) (after MRv2's discount and the commitment bonus).
+    pub utility: f64,
+    /// i(p) (1 under SR).
+    pub ideal_robots: usize,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RobotOutcome {
     pub robot: usize,
@@ -77,6 +100,9 @@ pub struct TeamOutcome {
     pub time_to_relevant_s: Option<f64>,
     pub relevant_target: f64,
     pub assigned_per_label: BTreeMap<RoomLabel, u32>,
+    /// Every candidate given to a robot at an auction, in order.
+    #[serde(skip)]
+    pub allocations: Vec<Allocation>,
     #[serde(skip)]
     pub merged_map: OccupancyGrid,
 }

@@ -2,3 +2,4 @@ mod explore;
 mod mcdm;
 mod semantic;
 mod team_size;
+mod travel_time;

@@ -53,10 +53,19 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
         )));
     }
     let total = config.duration_s;
-    let mission = TeamMission::new(scene, config, args.seed).input()?;
+    let mission = TeamMission::new(scene.clone(), config, args.seed).input()?;
     let bar = progress::bar(total.round() as u64, "exploring", args.json);
     let outcome = mission.run(|t| bar.set_position(t.round() as u64));
     bar.finish_and_clear();
+    if let Some(png) = &args.png {
+        usar_team::report::render_explored_map(&scene, &outcome)
+            .save_png(png)
+            .map_err(|e| bad_input(anyhow::anyhow!("--png {}: {e}", png.display())))?;
+    }
+    if let Some(path) = &args.trace {
+        usar_world::write_atomic(path, &allocations_csv(&outcome.allocations))
+            .map_err(|e| bad_input(anyhow::anyhow!("--trace {}: {e}", path.display())))?;
+    }
     let summary = RunSummary::new(
         &outcome,
         &args.strategy,
@@ -90,4 +99,27 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
         summary.finish,
     );
     Ok(())
+}
+
+/// The auctions' allocations as CSV, one row each (no field needs quoting).
+fn allocations_csv(allocations: &[usar_team::Allocation]) -> Vec<u8> {
+    let mut out = String::from(
+        "time_s,robot,x_m,y_m,label,relevance,frontier_cells,path_m,utility,ideal_robots\n",
+    );
+    for a in allocations {
+        out.push_str(&format!(
+            "{:.1},{},{:.2},{:.2},{},{:.2},{},{:.2},{:.4},{}\n",
+            a.time_s,
+            a.robot,
+            a.x_m,
+            a.y_m,
+            a.label.map_or("none", |l| l.as_str()),
+            a.relevance,
+            a.frontier_cells,
+            a.path_m,
+            a.utility,
+            a.ideal_robots,
+        ));
+    }
+    out.into_bytes()
 }

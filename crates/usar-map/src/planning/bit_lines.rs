@@ -69,6 +69,18 @@ impl BitLines {
         &self.words[line * self.words_per_line..(line + 1) * self.words_per_line]
     }
 
+    /// Sets position `pos` of `line` passable (`true`) or blocked.
+    #[inline]
+    pub fn set(&mut self, line: usize, pos: usize, passable: bool) {
+        let word = &mut self.words[line * self.words_per_line + pos / 64];
+        let bit = 1u64 << (pos % 64);
+        if passable {
+            *word |= bit;
+        } else {
+            *word &= !bit;
+        }
+    }
+
     /// True if position `pos` of `line` is passable.
     #[inline(always)]
     pub fn is_set(&self, line: usize, pos: usize) -> bool {

@@ -317,43 +317,56 @@ impl DistanceField {
     pub fn path_to_source(&self, cell: Cell) -> Option<GridPath> {
         let mut i = self.index(cell)?;
         let length_cells = self.distance[i];
-        let s = self.stride as isize;
-        let eight = self.connectivity == Connectivity::Eight;
-        let passable = |j: isize| self.distance[j as usize] >= 0.0;
         let mut cells = vec![self.cell_of_padded(i)];
         while self.distance[i] > 0.0 {
-            let d = self.distance[i];
-            let here = i as isize;
-            let mut step = None;
-            for (dc, dr) in NEIGHBORS8 {
-                let diagonal = dc != 0 && dr != 0;
-                if diagonal && !eight {
-                    break;
-                }
-                let next = here + dc as isize + dr as isize * s;
-                if !reached(self.distance[next as usize])
-                    || (diagonal
-                        && !(passable(here + dc as isize) && passable(here + dr as isize * s)))
-                {
-                    continue;
-                }
-                let cost = if diagonal { DIAGONAL_COST } else { 1.0 };
-                if (self.distance[next as usize] + cost - d).abs() <= DESCENT_TOLERANCE * d.max(1.0)
-                {
-                    step = Some(next as usize);
-                    break;
-                }
-            }
             // The cell the search reached `i` from always qualifies; stop rather than loop if
             // the buffers were ever inconsistent.
-            let next = step?;
-            i = next;
+            i = self.descend(i)?;
             cells.push(self.cell_of_padded(i));
         }
         Some(GridPath {
             cells,
             length_cells,
         })
+    }
+
+    /// The step [`DistanceField::path_to_source`] takes from `cell`: the next cell towards its
+    /// nearest source. `None` at a source, or when `cell` is unreachable or outside.
+    pub fn descent_step(&self, cell: Cell) -> Option<Cell> {
+        let i = self.index(cell)?;
+        if self.distance[i] > 0.0 {
+            self.descend(i).map(|j| self.cell_of_padded(j))
+        } else {
+            None
+        }
+    }
+
+    /// One step of the steepest descent from the reached, non-source padded cell `i`: the first
+    /// neighbour (in [`usar_world::NEIGHBORS8`] order) whose distance plus the move's cost is
+    /// `i`'s.
+    fn descend(&self, i: usize) -> Option<usize> {
+        let s = self.stride as isize;
+        let eight = self.connectivity == Connectivity::Eight;
+        let passable = |j: isize| self.distance[j as usize] >= 0.0;
+        let d = self.distance[i];
+        let here = i as isize;
+        for (dc, dr) in NEIGHBORS8 {
+            let diagonal = dc != 0 && dr != 0;
+            if diagonal && !eight {
+                break;
+            }
+            let next = here + dc as isize + dr as isize * s;
+            if !reached(self.distance[next as usize])
+                || (diagonal && !(passable(here + dc as isize) && passable(here + dr as isize * s)))
+            {
+                continue;
+            }
+            let cost = if diagonal { DIAGONAL_COST } else { 1.0 };
+            if (self.distance[next as usize] + cost - d).abs() <= DESCENT_TOLERANCE * d.max(1.0) {
+                return Some(next as usize);
+            }
+        }
+        None
     }
 
     /// The whole field as a grid of distances in cells, `INFINITY` where unreachable.

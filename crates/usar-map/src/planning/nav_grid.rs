@@ -117,12 +117,22 @@ impl NavGrid {
         self.geometry.contains(cell) && self.cells[self.padded_index(cell)] == PASSABLE
     }
 
-    /// Marks an in-grid cell passable or blocked; cells outside the grid are ignored.
+    /// Marks an in-grid cell passable or blocked; cells outside the grid are ignored. The bit
+    /// copy, when built, is updated in place (two bits), so planners that open a start or goal
+    /// cell for one query and close it again do not rebuild it.
     pub fn set_passable(&mut self, cell: Cell, passable: bool) {
         if self.geometry.contains(cell) {
             let i = self.padded_index(cell);
-            self.cells[i] = if passable { PASSABLE } else { BLOCKED };
-            self.bits = OnceLock::new();
+            let value = if passable { PASSABLE } else { BLOCKED };
+            if self.cells[i] == value {
+                return;
+            }
+            self.cells[i] = value;
+            if let Some(bits) = self.bits.get_mut() {
+                let (col, row) = (i % self.stride, i / self.stride);
+                bits.rows.set(row, col, passable);
+                bits.cols.set(col, row, passable);
+            }
         }
     }
 
@@ -243,5 +253,21 @@ mod tests {
         }
         let blocked = nav.to_blocked();
         assert_eq!(NavGrid::from_blocked(&blocked), nav);
+    }
+
+    #[test]
+    fn changing_a_cell_keeps_the_bit_copy_equal_to_a_fresh_one() {
+        let g = GridGeometry::new(70, 66, 0.1, Point2::new(0.0, 0.0));
+        let mut nav = NavGrid::from_fn(g, |c| (c.col * 7 + c.row * 3) % 5 == 0);
+        nav.bit_lines();
+        for (k, c) in [Cell::new(0, 0), Cell::new(63, 64), Cell::new(64, 1), Cell::new(69, 65)]
+            .into_iter()
+            .enumerate()
+        {
+            nav.set_passable(c, k % 2 == 0);
+            nav.set_passable(Cell::new(c.col / 2, c.row), k % 2 == 1);
+            let fresh = NavGrid::from_fn(g, |x| !nav.is_passable(x));
+            assert_eq!(nav.bit_lines(), fresh.bit_lines());
+        }
     }
 }

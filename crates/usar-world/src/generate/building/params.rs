@@ -1,11 +1,16 @@
 //! Parameters of the building-floor generators and their paper-002 defaults.
 //!
 //! Paper 002 (§4.1) gives the label distribution of its two floors (Tables 2–3) but neither their
-//! size nor how the rooms are laid out. The sizes follow from the results tables: the office's
-//! total explored area reaches ≈ 4 000–5 000 m² after 20 minutes (Table 5) and the mall's
-//! ≈ 5 800 m² (Table 7), so the default office is 80 m × 62 m (≈ 4 500 m² of labelled floor) and
-//! the default mall 105 m × 60 m (≈ 5 850 m²). Every other constant below is ours, documented
-//! where it is declared.
+//! size nor how the rooms are laid out. The office's size follows from Table 4 with Table 2: with
+//! S-MCDM and MR coordination the explored big-room area levels off at ≈ 1 850–1 880 m²
+//! (1 851.3 ± 7.8 m² with 6 robots and MRv1: every big room explored), which is Table 2's 2 304
+//! big-room cells, so a cell of Table 2 is ≈ 0.82 m² and the 8 388 labelled cells ≈ 6 900 m²; the
+//! default office is 100 m × 77 m (≈ 6 900 m² of labelled floor). (An earlier default of
+//! 80 m × 62 m took the 20-minute total explored area of Table 5, ≈ 4 000–5 000 m², for the
+//! floor's size; the paper's teams never finish the floor, so that floor was too small and six
+//! robots saturated it.) The mall's Table 7 total, ≈ 5 800 m², gives the default mall of
+//! 105 m × 60 m (≈ 5 850 m²). Every other constant below is ours, documented where it is
+//! declared.
 
 use crate::error::{Result, WorldError};
 use crate::scene::RoomSizeThresholds;
@@ -170,15 +175,22 @@ pub struct BuildingParams {
 impl BuildingParams {
     /// The paper-002 office: mostly small and medium rooms along corridors (Table 2).
     ///
-    /// Room areas: small 14–27.5 m² (one-person offices), medium 33–50 m² (shared offices,
-    /// meeting rooms), big 110–150 m² (open-plan offices, a canteen). With Table 2's area shares on
-    /// ≈ 4 500 m² these give ≈ 20–26 small, 31–39 medium and 9–11 big rooms (Table 2: 21, 42,
-    /// 10). Corridors 2–5 m wide (≈ 3–3.5 m is what the 30 % corridor share asks for).
+    /// Room areas: small 14–27.5 m² (one-person offices; below the 30 m² small-room limit),
+    /// medium 35–75 m² (shared offices, meeting rooms) and big 150–230 m² (open-plan offices, a
+    /// canteen): Table 2's cells per room at ≈ 0.82 m² a cell (see the module documentation) are
+    /// ≈ 55 m² per medium room (2 835 / 42) and ≈ 190 m² per big room (2 304 / 10). With Table 2's
+    /// area shares on ≈ 6 900 m² these give ≈ 25–30 small, 35–45 medium and 8–12 big rooms
+    /// (Table 2: 21, 42, 10). Corridors 2–5 m wide (≈ 3–3.5 m is what the 30 % corridor share
+    /// asks for).
     pub fn office() -> Self {
         Self {
-            width_m: 80.0,
-            height_m: 62.0,
-            resolution_m: 0.1,
+            width_m: 100.0,
+            height_m: 77.0,
+            // The team maps of paper 002's runs are 0.2 m: a floor on the same grid puts every
+            // wall face on a map cell boundary. On a 0.1 m floor, half the 0.2 m walls straddle
+            // two map cells, whose near halves grazing beams clear while the far side is never
+            // seen: fake frontiers along every such wall that no robot can resolve.
+            resolution_m: 0.2,
             wall_thickness_m: 0.2,
             corridor_width_m: LengthRange::new(2.0, 5.0),
             row_depth_m: 6.0,
@@ -189,8 +201,8 @@ impl BuildingParams {
             ring_probability: 0.5,
             label_shares: LabelShares::OFFICE_TABLE_2,
             small_room_m2: AreaRange::new(14.0, 27.5),
-            medium_room_m2: AreaRange::new(33.0, 50.0),
-            big_room_m2: AreaRange::new(110.0, 150.0),
+            medium_room_m2: AreaRange::new(35.0, 75.0),
+            big_room_m2: AreaRange::new(150.0, 230.0),
             thresholds: RoomSizeThresholds::default(),
             min_room_side_m: 2.4,
             door_width_m: LengthRange::new(1.0, 1.2),
@@ -223,6 +235,7 @@ impl BuildingParams {
         Self {
             width_m: 105.0,
             height_m: 60.0,
+            resolution_m: 0.1,
             corridor_width_m: LengthRange::new(4.0, 8.0),
             row_depth_m: 11.0,
             min_row_depth_m: 6.0,
