@@ -18,6 +18,8 @@ pub struct Segment {
     pub mean_clearance_m: f64,
     /// area / (4 × mean clearance)²: ≈ length / width for a strip, ≈ 2.25 for a square.
     pub elongation: f64,
+    /// Segments it borders.
+    pub neighbours: usize,
     /// Centroid of its cells.
     pub centroid: Point2,
 }
@@ -82,6 +84,11 @@ pub(super) fn build(
             b.max_clearance_m = b.max_clearance_m.max(clearance[i]).max(clearance[j]);
         }
     }
+    let mut neighbours = vec![0usize; n];
+    for &(a, b) in borders.keys() {
+        neighbours[a as usize - 1] += 1;
+        neighbours[b as usize - 1] += 1;
+    }
     let cell_area = g.cell_area_m2();
     let segments: Vec<Segment> = (0..n)
         .map(|k| {
@@ -90,7 +97,9 @@ pub(super) fn build(
             let mean_clearance_m = sum_d[k] / count;
             let width = 4.0 * mean_clearance_m;
             let elongation = area_m2 / (width * width).max(f64::MIN_POSITIVE);
-            let label = if elongation >= p.corridor_elongation {
+            let label = if elongation >= p.corridor_elongation
+                && neighbours[k] >= p.corridor_min_neighbours
+            {
                 RoomLabel::Corridor
             } else {
                 RoomLabel::for_room_area(area_m2, p.thresholds)
@@ -101,6 +110,7 @@ pub(super) fn build(
                 area_m2,
                 mean_clearance_m,
                 elongation,
+                neighbours: neighbours[k],
                 centroid: Point2::new(sum_x[k] / count, sum_y[k] / count),
             }
         })
@@ -174,7 +184,7 @@ impl Segmentation {
                     .iter()
                     .filter(|s| s.label == l)
                     .map(|s| s.area_m2)
-                    .sum(),
+                    .fold(0.0, |a, b| a + b),
             )
         })
     }

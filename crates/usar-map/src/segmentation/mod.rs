@@ -6,7 +6,7 @@
 //! 2. [`watershed`]: basins of the clearance, kept apart only at doorways (see there).
 //! 3. Segments smaller than [`SegmentationParams::min_room_area_m2`] join the neighbour they
 //!    share the longest border with.
-//! 4. [`layer`]: corridor or room by elongation, room labels by area
+//! 4. [`layer`]: corridor or room by elongation and connections, room labels by area
 //!    ([`usar_world::RoomLabel::for_room_area`], the thresholds the generators use), doors
 //!    between neighbouring segments, intersecting corridors.
 //!
@@ -45,6 +45,9 @@ pub struct SegmentationParams {
     /// A segment is a corridor when area / width² reaches this, the width being 4 × its mean
     /// clearance (exact for a long strip: its mean clearance is a quarter of its width).
     pub corridor_elongation: f64,
+    /// ... and when it borders at least this many segments: corridors join spaces, while a
+    /// long room (a lab, a row of desks) is mostly a dead end.
+    pub corridor_min_neighbours: usize,
     /// Room labels by free floor area, as the generators label their rooms.
     pub thresholds: RoomSizeThresholds,
 }
@@ -53,12 +56,13 @@ impl Default for SegmentationParams {
     fn default() -> Self {
         Self {
             min_region_area_m2: 1.0,
-            door_ratio: 0.6,
-            max_door_width_m: 2.0,
+            door_ratio: 0.7,
+            max_door_width_m: 3.0,
             min_depth_m: 0.3,
             min_core_area_m2: 0.5,
             min_room_area_m2: 2.0,
             corridor_elongation: 4.0,
+            corridor_min_neighbours: 4,
             thresholds: RoomSizeThresholds::default(),
         }
     }
