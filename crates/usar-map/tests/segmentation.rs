@@ -10,7 +10,6 @@ use usar_map::segmentation::{SegmentationParams, segment_free_space, segment_sce
 use usar_world::io::image_map::decode_image;
 use usar_world::{Grid, GridGeometry, Point2, RoomLabel};
 
-
 fn intel(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/maps/segmentation")
@@ -43,7 +42,11 @@ fn intel_free() -> Grid<bool> {
 }
 
 fn layer(seg: &usar_map::segmentation::Segmentation) -> Vec<u32> {
-    seg.room_id.as_slice().iter().map(|&l| u32::from(l)).collect()
+    seg.room_id
+        .as_slice()
+        .iter()
+        .map(|&l| u32::from(l))
+        .collect()
 }
 
 fn classes(seg: &usar_map::segmentation::Segmentation) -> Vec<Option<bool>> {
@@ -162,14 +165,21 @@ fn a_corridor_with_rooms_along_it_is_labelled_corridor_and_rooms_by_area() {
         .filter(|s| s.label == RoomLabel::Corridor)
         .collect();
     assert_eq!(corridors.len(), 1, "{:?}", seg.segments);
-    assert!((corridors[0].area_m2 - 48.0).abs() < 3.0, "{:?}", corridors[0]);
+    assert!(
+        (corridors[0].area_m2 - 48.0).abs() < 3.0,
+        "{:?}",
+        corridors[0]
+    );
     let rooms: Vec<_> = seg
         .segments
         .iter()
         .filter(|s| s.label != RoomLabel::Corridor)
         .collect();
     assert_eq!(rooms.len(), 4, "{:?}", seg.segments);
-    assert!(rooms.iter().all(|r| r.label == RoomLabel::MediumRoom), "{rooms:?}");
+    assert!(
+        rooms.iter().all(|r| r.label == RoomLabel::MediumRoom),
+        "{rooms:?}"
+    );
     assert_eq!(seg.doors.len(), 4);
     let mut scene = usar_world::Scene::empty("strip", *free.geometry());
     for (i, &f) in free.as_slice().iter().enumerate() {
@@ -179,6 +189,14 @@ fn a_corridor_with_rooms_along_it_is_labelled_corridor_and_rooms_by_area() {
     }
     seg.apply_to(&mut scene);
     assert_eq!(scene.rooms.len(), 5);
-    let corridor = scene.rooms.iter().find(|r| r.label == RoomLabel::Corridor).unwrap();
-    assert_eq!(corridor.door_ids.len(), 4, "the corridor opens into every room");
+    let corridor = scene
+        .rooms
+        .iter()
+        .find(|r| r.label == RoomLabel::Corridor)
+        .unwrap();
+    assert_eq!(
+        corridor.door_ids.len(),
+        4,
+        "the corridor opens into every room"
+    );
 }

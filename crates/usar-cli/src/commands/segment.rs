@@ -150,16 +150,14 @@ fn classes(seg: &Segmentation) -> Vec<Option<bool>> {
     seg.room_id
         .as_slice()
         .iter()
-        .map(|&l| {
-            (l != 0).then(|| seg.segments[usize::from(l) - 1].label == RoomLabel::Corridor)
-        })
+        .map(|&l| (l != 0).then(|| seg.segments[usize::from(l) - 1].label == RoomLabel::Corridor))
         .collect()
 }
 
 /// A ground-truth image of the scene's size.
 fn truth_image(path: &Path, scene: &Scene) -> CmdResult<DecodedImage> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
     let image = decode_image(&bytes, path).input()?;
     let g = scene.geometry();
     if (image.width, image.height) != (g.width, g.height) {

@@ -6,8 +6,8 @@ use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::team_setup::{TeamSetup, parse_failure};
 use crate::{progress, scene_source};
 use std::sync::Arc;
-use usar_team::paper_run::RunSummary;
 use usar_map::segmentation::SegmentationParams;
+use usar_team::paper_run::RunSummary;
 use usar_team::scene_prep::prepare_scene;
 use usar_team::{Radio, TeamMission};
 

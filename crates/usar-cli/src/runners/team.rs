@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex};
 use usar_campaign::{
     Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
 };
-use usar_team::paper_run::RunSummary;
 use usar_map::segmentation::SegmentationParams;
+use usar_team::paper_run::RunSummary;
 use usar_team::scene_prep::prepare_scene;
 use usar_team::{Radio, TeamConfig, TeamMission};
 use usar_world::{RoomLabel, Scene};

@@ -103,7 +103,9 @@ mod tests {
         let mut x = 12345u64;
         let free: Vec<bool> = (0..w * h)
             .map(|_| {
-                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 (x >> 33) % 9 != 0
             })
             .collect();

@@ -222,4 +222,3 @@ fn absorb_small(labels: &mut [u32], w: usize, min_cells: u32) {
         *l = number[r];
     }
 }
-
