@@ -106,7 +106,7 @@ mod tests {
                 x = x
                     .wrapping_mul(6364136223846793005)
                     .wrapping_add(1442695040888963407);
-                (x >> 33) % 9 != 0
+                (x >> 60) != 0
             })
             .collect();
         assert_eq!(squared_edt(&free, w, h), brute(&free, w, h));
