@@ -24,12 +24,11 @@ pub struct Hypothesis {
 }
 
 impl Hypothesis {
-    /// "Victims are in big rooms": big 1, small 0, corridor 0.15 (paper 002 §3.2); medium rooms,
-    /// which the paper does not rate, 0 like every room the hypothesis does not name: corridors
-    /// get 0.15 "as corridors are usually important to reach relevant rooms", so they must
-    /// outrank irrelevant rooms (with medium at 0.5, S-MCDM on the mall swept the medium rooms
-    /// before the galleries leading to the last big rooms, and took longer than D-MCDM to reach
-    /// 90 % of the relevant area, Fig. 15).
+    /// "Victims are in big rooms": big 1, small 0, corridor 0.15 (paper 002 §3.2). Medium rooms,
+    /// which §3.2 does not rate, are not where the victims are believed to be: 0, like small
+    /// rooms. (S runs from 0, not relevant, to 1, relevant; the relevant area of Tables 4 and 6
+    /// is the big rooms' area only, and only corridors get an intermediate value, "as corridors
+    /// are usually important to reach relevant rooms".)
     pub fn big_rooms() -> Self {
         Self::of(
             "big",
@@ -41,8 +40,7 @@ impl Hypothesis {
         )
     }
 
-    /// "Victims are in small rooms": small 1, big 0, corridor 0.15, medium 0 (see
-    /// [`Hypothesis::big_rooms`]).
+    /// "Victims are in small rooms": small 1, big 0, medium 0, corridor 0.15.
     pub fn small_rooms() -> Self {
         Self::of(
             "small",
