@@ -363,6 +363,10 @@ pub enum SceneCommand {
     Show(SceneShowArgs),
     /// Describe a scene: size, rooms and labels, doors, victims, junctions, reachable area.
     Info(SceneInfoArgs),
+    /// Room segmentation: split the free space into rooms and corridors at doorways and label
+    /// the rooms by area (the room layer `team run` uses for maps without one); optionally
+    /// score it against a ground truth in the format of Bormann et al. 2016.
+    Segment(SceneSegmentArgs),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -469,6 +473,40 @@ pub struct SceneInfoArgs {
     pub seed: u64,
     #[command(flatten)]
     pub image: ImageArgs,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SceneSegmentArgs {
+    pub scene: String,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Segmentation parameters (TOML; missing fields keep their defaults): min_region_area_m2,
+    /// door_ratio, max_door_width_m, min_depth_m, min_core_area_m2, min_room_area_m2,
+    /// corridor_elongation, [thresholds] small_below_m2, medium_below_m2.
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// Draw the segments (one colour each; corridors pale; doors as crosses) into this PNG.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Write the scene with the segmentation as its room layer (.json).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Ground-truth room image of the same size (floor > 250, black lines between rooms):
+    /// report per-room recall, precision and best-match Jaccard.
+    #[arg(long)]
+    pub truth_rooms: Option<PathBuf>,
+    /// Ground-truth class image of the same size (77 room, 115 hallway): report the
+    /// room-vs-corridor pixel accuracy.
+    #[arg(long)]
+    pub truth_classes: Option<PathBuf>,
+    /// Score against the scene's own room layer (a generated floor's rooms and corridors),
+    /// on its free cells.
+    #[arg(long, conflicts_with_all = ["truth_rooms", "truth_classes"])]
+    pub against_layer: bool,
     #[arg(long)]
     pub json: bool,
 }

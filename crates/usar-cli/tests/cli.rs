@@ -3,6 +3,7 @@
 mod btm;
 mod campaign;
 mod maxq;
+mod segment;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

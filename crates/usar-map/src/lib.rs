@@ -7,6 +7,7 @@ pub mod frontier;
 pub mod navigable;
 pub mod occupancy;
 pub mod planning;
+pub mod segmentation;
 
 pub use self::frontier::{FrontierCluster, FrontierTracker};
 pub use self::navigable::NavigableMap;

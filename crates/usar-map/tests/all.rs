@@ -2,3 +2,4 @@
 
 mod frontier;
 mod planning;
+mod segmentation;

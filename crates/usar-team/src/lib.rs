@@ -7,7 +7,8 @@
 //! its nearest candidate, one robot per candidate; what `demo` and `explore` run), and paper
 //! 002's auctions (every 5 s and when a robot arrives) with the Random, Distance, D-MCDM or
 //! S-MCDM strategy and SR, MRv1 or MRv2 coordination, on a semantic map whose labels may be
-//! perceived with errors; the mission then also measures the explored relevant area.
+//! perceived with errors; the mission then also measures the explored relevant area. Maps
+//! without a room layer get one from `usar_map::segmentation` (`scene_prep`).
 
 pub mod assignment;
 pub mod base_station;
@@ -23,6 +24,7 @@ mod mission;
 mod outcome;
 pub mod paper_run;
 pub mod report;
+pub mod scene_prep;
 pub mod semantic_map;
 pub mod team_size;
 pub mod travel_time;

@@ -9,6 +9,7 @@ mod explore;
 mod maxq;
 mod plan;
 mod scene;
+mod segment;
 mod team;
 
 use crate::cli::{Cli, Command};

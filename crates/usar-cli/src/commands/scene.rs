@@ -1,4 +1,4 @@
-//! `usar scene gen|import|export|show|info`.
+//! `usar scene gen|import|export|show|info` (`segment` is in `segment.rs`).
 
 use super::print_json;
 use crate::cli::{
@@ -16,6 +16,7 @@ pub fn run(cmd: SceneCommand) -> CmdResult {
         SceneCommand::Export(args) => export(args),
         SceneCommand::Show(args) => show(args),
         SceneCommand::Info(args) => info(args),
+        SceneCommand::Segment(args) => super::segment::run(args),
     }
 }
 

@@ -6,7 +6,9 @@ use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::team_setup::{TeamSetup, parse_failure};
 use crate::{progress, scene_source};
 use std::sync::Arc;
+use usar_map::segmentation::SegmentationParams;
 use usar_team::paper_run::RunSummary;
+use usar_team::scene_prep::prepare_scene;
 use usar_team::{Radio, TeamMission};
 
 pub fn run(cmd: TeamCommand) -> CmdResult {
@@ -41,17 +43,26 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
     let config = setup
         .config()
         .map_err(|e| bad_input(anyhow::anyhow!("--{e}")))?;
-    let scene = Arc::new(scene_source::load(
-        &args.scene,
-        args.scene_seed,
-        &args.image,
-    )?);
+    let mut scene = scene_source::load(&args.scene, args.scene_seed, &args.image)?;
+    let prepared = prepare_scene(
+        &mut scene,
+        config.robots,
+        config.robot.circumscribed_radius_m() + 0.1,
+        &SegmentationParams::default(),
+    );
+    if prepared.segmented_rooms > 0 && !args.json {
+        eprintln!(
+            "{}: no room layer; the room segmentation made {} rooms and corridors",
+            args.scene, prepared.segmented_rooms
+        );
+    }
     if scene.rooms.is_empty() {
         return Err(bad_input(anyhow::anyhow!(
-            "{}: the scene has no room layer (no labelled rooms); paper 002's relevant area needs one",
+            "{}: no room layer, and the room segmentation found no free space to split",
             args.scene
         )));
     }
+    let scene = Arc::new(scene);
     let total = config.duration_s;
     let mission = TeamMission::new(scene.clone(), config, args.seed).input()?;
     let bar = progress::bar(total.round() as u64, "exploring", args.json);

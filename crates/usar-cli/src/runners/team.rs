@@ -7,13 +7,17 @@ use std::sync::{Arc, Mutex};
 use usar_campaign::{
     Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
 };
+use usar_map::segmentation::SegmentationParams;
 use usar_team::paper_run::RunSummary;
-use usar_team::{Radio, TeamMission};
+use usar_team::scene_prep::prepare_scene;
+use usar_team::{Radio, TeamConfig, TeamMission};
 use usar_world::{RoomLabel, Scene};
 
 pub struct TeamRunner {
     /// Scenes by (scene, scene_seed): generated or read once per campaign.
     scenes: Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
+    /// Scenes given a room layer (segmentation) and start poses, by (scene, scene_seed, robots).
+    prepared: Mutex<BTreeMap<(String, u64, usize), Arc<Scene>>>,
 }
 
 /// The label names of the `assigned_*` metrics.
@@ -28,7 +32,36 @@ impl TeamRunner {
     pub const fn new() -> Self {
         Self {
             scenes: Mutex::new(BTreeMap::new()),
+            prepared: Mutex::new(BTreeMap::new()),
         }
+    }
+
+    /// The run's scene; one without a room layer is segmented, one with fewer start poses than
+    /// robots gets more (`usar_team::scene_prep`), as `usar team run` does.
+    fn scene(&self, config: &Config, team: &TeamConfig) -> Result<Arc<Scene>, String> {
+        let base = scene_for(&self.scenes, config)?;
+        if !base.rooms.is_empty() && base.start_poses.len() >= team.robots {
+            return Ok(base);
+        }
+        let key = (
+            config.text("scene").unwrap_or("office").to_string(),
+            config.int("scene_seed").unwrap_or(1) as u64,
+            team.robots,
+        );
+        let mut cache = self.prepared.lock().expect("prepared scene cache");
+        if let Some(s) = cache.get(&key) {
+            return Ok(s.clone());
+        }
+        let mut scene = (*base).clone();
+        prepare_scene(
+            &mut scene,
+            team.robots,
+            team.robot.circumscribed_radius_m() + 0.1,
+            &SegmentationParams::default(),
+        );
+        let scene = Arc::new(scene);
+        cache.insert(key, scene.clone());
+        Ok(scene)
     }
 
     fn setup(config: &Config) -> TeamSetup<'_> {
@@ -77,7 +110,7 @@ impl Runner for TeamRunner {
             )
         };
         let mut factors = scene_and_team_factors(
-            "office or mall (generated with scene_seed), or a scene file with a room layer",
+            "office or mall (generated with scene_seed), or a scene file (segmented if it has no room layer)",
             6,
         );
         factors.extend([
@@ -164,8 +197,8 @@ impl Runner for TeamRunner {
     }
 
     fn check(&self, config: &Config) -> Result<(), String> {
-        let scene = scene_for(&self.scenes, config)?;
         let team = Self::setup(config).config()?;
+        let scene = self.scene(config, &team)?;
         if scene.start_poses.len() < team.robots {
             return Err(format!(
                 "scene {} has {} start poses, robots = {}",
@@ -175,15 +208,18 @@ impl Runner for TeamRunner {
             ));
         }
         if scene.rooms.is_empty() {
-            return Err(format!("scene {} has no room layer", scene.name));
+            return Err(format!(
+                "scene {} has no room layer and no free space to segment",
+                scene.name
+            ));
         }
         Ok(())
     }
 
     fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
-        let scene = scene_for(&self.scenes, config)?;
         let setup = Self::setup(config);
         let team = setup.config()?;
+        let scene = self.scene(config, &team)?;
         let outcome = TeamMission::new(scene, team, seed)
             .map_err(|e| e.to_string())?
             .run(|_| {});

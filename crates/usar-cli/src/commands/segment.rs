@@ -1,0 +1,217 @@
+//! `usar scene segment`: the room segmentation of a map, drawn, saved as the scene's room layer
+//! and scored against a ground truth.
+
+use super::print_json;
+use crate::cli::SceneSegmentArgs;
+use crate::failure::{CmdResult, InputContext, bad_input};
+use crate::scene_source;
+use serde_json::json;
+use std::path::Path;
+use usar_map::segmentation::evaluate::{
+    ClassScore, RoomScore, score_classes, score_rooms, truth_classes_from_image,
+    truth_rooms_from_image,
+};
+use usar_map::segmentation::{Segmentation, SegmentationParams, segment_scene};
+use usar_world::io::image_map::{DecodedImage, decode_image};
+use usar_world::render::Canvas;
+use usar_world::{RoomLabel, Scene};
+
+pub fn run(args: SceneSegmentArgs) -> CmdResult {
+    let mut scene = scene_source::load(&args.scene, args.seed, &args.image)?;
+    let params = match &args.params {
+        Some(path) => read_params(path)?,
+        None => SegmentationParams::default(),
+    };
+    let seg = segment_scene(&scene, &params);
+    if args.against_layer && scene.rooms.is_empty() {
+        return Err(bad_input(anyhow::anyhow!(
+            "{}: --against-layer needs a scene with a room layer",
+            args.scene
+        )));
+    }
+    let (own_rooms, own_classes) = own_layer(&scene);
+    let rooms = match &args.truth_rooms {
+        Some(path) => Some(score_rooms(
+            &layer(&seg),
+            &truth_rooms_from_image(&truth_image(path, &scene)?),
+        )),
+        None => args
+            .against_layer
+            .then(|| score_rooms(&layer(&seg), &own_rooms)),
+    };
+    let classes = match &args.truth_classes {
+        Some(path) => Some(score_classes(
+            &classes(&seg),
+            &truth_classes_from_image(&truth_image(path, &scene)?),
+        )),
+        None => args
+            .against_layer
+            .then(|| score_classes(&classes(&seg), &own_classes)),
+    };
+    if let Some(png) = &args.png {
+        draw(&scene, &seg).save_png(png).input()?;
+    }
+    seg.apply_to(&mut scene);
+    if let Some(out) = &args.output {
+        usar_world::write_scene(&scene, out).input()?;
+    }
+    let by_label = seg.area_by_label();
+    if args.json {
+        let labels: serde_json::Map<String, serde_json::Value> = by_label
+            .iter()
+            .map(|(l, a)| {
+                let n = seg.segments.iter().filter(|s| s.label == *l).count();
+                (
+                    l.as_str().to_string(),
+                    json!({ "segments": n, "area_m2": a }),
+                )
+            })
+            .collect();
+        return print_json(&json!({
+            "scene": scene.name,
+            "params": params,
+            "segments": seg.segments,
+            "doors": seg.doors.len(),
+            "corridor_links": seg.corridor_links.len(),
+            "labels": labels,
+            "truth_rooms": rooms,
+            "truth_classes": classes,
+        }));
+    }
+    println!(
+        "{}: {} segments, {} doors, {} corridor junctions",
+        scene.name,
+        seg.segments.len(),
+        seg.doors.len(),
+        seg.corridor_links.len()
+    );
+    for (label, area) in by_label {
+        let n = seg.segments.iter().filter(|s| s.label == label).count();
+        println!("  {:<12} {n:>3} segments {area:>8.1} m²", label.as_str());
+    }
+    if let Some(RoomScore {
+        truth_rooms,
+        segments,
+        recall,
+        precision,
+        jaccard,
+    }) = rooms
+    {
+        println!(
+            "  against {truth_rooms} true rooms ({segments} segments): recall {recall:.3}, precision {precision:.3}, best-match Jaccard {jaccard:.3}"
+        );
+    }
+    if let Some(ClassScore {
+        cells,
+        accuracy,
+        corridor_recall,
+        room_recall,
+    }) = classes
+    {
+        println!(
+            "  room vs corridor on {cells} cells: accuracy {accuracy:.3} (corridor recall {corridor_recall:.3}, room recall {room_recall:.3})"
+        );
+    }
+    Ok(())
+}
+
+fn read_params(path: &Path) -> CmdResult<SegmentationParams> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+    toml::from_str(&text).map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))
+}
+
+/// The scene's own rooms and classes on its free cells (0 / `None` elsewhere).
+fn own_layer(scene: &Scene) -> (Vec<u32>, Vec<Option<bool>>) {
+    scene
+        .room_id
+        .as_slice()
+        .iter()
+        .zip(scene.obstacle.as_slice())
+        .map(|(&id, &o)| {
+            if o != usar_world::obstacle::NONE || id == 0 {
+                return (0, None);
+            }
+            let corridor = scene.room(id).map(|r| r.label == RoomLabel::Corridor);
+            (u32::from(id), corridor)
+        })
+        .unzip()
+}
+
+fn layer(seg: &Segmentation) -> Vec<u32> {
+    seg.room_id
+        .as_slice()
+        .iter()
+        .map(|&l| u32::from(l))
+        .collect()
+}
+
+fn classes(seg: &Segmentation) -> Vec<Option<bool>> {
+    seg.room_id
+        .as_slice()
+        .iter()
+        .map(|&l| (l != 0).then(|| seg.segments[usize::from(l) - 1].label == RoomLabel::Corridor))
+        .collect()
+}
+
+/// A ground-truth image of the scene's size.
+fn truth_image(path: &Path, scene: &Scene) -> CmdResult<DecodedImage> {
+    let bytes =
+        std::fs::read(path).map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+    let image = decode_image(&bytes, path).input()?;
+    let g = scene.geometry();
+    if (image.width, image.height) != (g.width, g.height) {
+        return Err(bad_input(anyhow::anyhow!(
+            "{}: {}×{} pixels, expected the map's {}×{}",
+            path.display(),
+            image.width,
+            image.height,
+            g.width,
+            g.height
+        )));
+    }
+    Ok(image)
+}
+
+/// Segments in distinct colours (rooms saturated, corridors pale), walls dark, doors as crosses.
+fn draw(scene: &Scene, seg: &Segmentation) -> Canvas {
+    let g = *scene.geometry();
+    let mut canvas = Canvas::fit(g, 1600);
+    canvas.fill([60, 60, 60]);
+    for (i, &l) in seg.room_id.as_slice().iter().enumerate() {
+        let cell = g.cell_of_index(i);
+        let rgb = if l == 0 {
+            if scene.is_obstacle(cell) {
+                [30, 30, 30]
+            } else {
+                [255, 255, 255]
+            }
+        } else {
+            let s = &seg.segments[usize::from(l) - 1];
+            segment_colour(l, s.label == RoomLabel::Corridor)
+        };
+        canvas.fill_cell(cell, rgb);
+    }
+    for d in &seg.doors {
+        canvas.draw_cross(d.position, d.width_m.max(0.6), [220, 0, 0]);
+    }
+    canvas
+}
+
+/// A colour per segment: hues spaced by the golden angle; corridors pale.
+fn segment_colour(id: u16, corridor: bool) -> [u8; 3] {
+    let hue = (f64::from(id) * 137.507_764) % 360.0;
+    let (s, v) = if corridor { (0.15, 0.95) } else { (0.6, 0.9) };
+    let c = v * s;
+    let x = c * (1.0 - ((hue / 60.0) % 2.0 - 1.0).abs());
+    let (r, g, b) = match (hue / 60.0) as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = v - c;
+    [r, g, b].map(|u| ((u + m) * 255.0).round() as u8)
+}
