@@ -10,16 +10,19 @@
 //! ```
 //!
 //! with the terrain coefficient ω (eq. 8), the neighbouring-cells coefficient λ (eq. 9) and the
-//! travel coefficient δ (eq. 10) of [`ExplorationWeights`]; d_x is the Euclidean distance in
-//! cells from the robot's cell to x. The region with the largest utility is the exploration
-//! direction D_E.
+//! travel coefficient δ (eq. 10) of [`ExplorationWeights`]. d_x is the robot's *travel*
+//! distance to x in cells: the shortest path through cells its map knows it can cross (to the
+//! cell from which it faces x, plus one, when x is not classified yet); a cell of interest
+//! the robot can neither reach nor face has no travel distance and δ = 1 ("elsewhere"). The
+//! region with the largest utility among those holding a reachable cell of interest is the
+//! exploration direction D_E.
 //!
 //! **From D_E to a heading.** The paper hands D_E to the navigation subtask and lets it learn to
 //! move that way through the rubble. Here the navigation subtask is given, besides D_E, the
 //! *first step* of the shortest path (through cells the robot knows it can cross) to the cell
-//! of interest of region D_E it can reach with the largest ω·λ·δ (ties: the nearest by path).
-//! Only cells of interest the robot can reach or face from its known free cells count as
-//! targets; a region without such a target is skipped (its unknown cells lie behind
+//! of interest of region D_E nearest to it by path (ties: the largest ω·λ·δ), so that NG
+//! explores locally in direction D_E. Only cells of interest the robot can reach or face from
+//! its known free cells count as targets; a region without such a target is skipped (its unknown cells lie behind
 //! obstacles). This keeps the direction-based choice of the paper and removes the local minima
 //! of following a compass direction through rubble (the paper's 1 786–2 026 steps per scene).
 
@@ -172,14 +175,20 @@ impl ExplorationWeights {
     /// δ (eq. 10) at squared distance `d2` (cells²).
     #[inline]
     pub fn travel_coefficient(&self, d2: f64) -> f64 {
-        let d = &self.distance_cells;
-        if d2 <= d[0] * d[0] {
+        self.travel_coefficient_at(d2.max(0.0).sqrt())
+    }
+
+    /// δ (eq. 10) at distance `d` (cells).
+    #[inline]
+    pub fn travel_coefficient_at(&self, d: f64) -> f64 {
+        let t = &self.distance_cells;
+        if d <= t[0] {
             self.travel[0]
-        } else if d2 <= d[1] * d[1] {
+        } else if d <= t[1] {
             self.travel[1]
-        } else if d2 <= d[2] * d[2] {
+        } else if d <= t[2] {
             self.travel[2]
-        } else if d2 <= d[3] * d[3] {
+        } else if d <= t[3] {
             self.travel[3]
         } else {
             1.0
@@ -207,7 +216,6 @@ pub struct Guidance {
 pub struct Explorer {
     pub weights: ExplorationWeights,
     cols: i32,
-    rows: i32,
     /// ω_x·λ_x of every cell of interest, 0 for the other cells.
     omega_lambda: Vec<f64>,
     /// Path distance (steps) from the robot through known passable cells; u32::MAX unreached.
@@ -223,7 +231,6 @@ impl Explorer {
         let mut e = Self {
             weights,
             cols: map.cols,
-            rows: map.rows,
             omega_lambda: vec![0.0; n],
             distance: vec![u32::MAX; n],
             first_step: vec![0; n],
@@ -268,28 +275,6 @@ impl Explorer {
     pub fn omega_lambda(&self, col: i32, row: i32) -> f64 {
         let i = (row * self.cols + col) as usize;
         self.omega_lambda[i]
-    }
-
-    /// Eq. 7 for the robot at (rc, rr): the four utilities, by [`Direction::index`].
-    pub fn utilities(&self, rc: i32, rr: i32) -> [f64; 4] {
-        let mut u = [0.0; 4];
-        for row in 0..self.rows {
-            let dy = row - rr;
-            let base = (row * self.cols) as usize;
-            for col in 0..self.cols {
-                let ol = self.omega_lambda[base + col as usize];
-                if ol == 0.0 {
-                    continue;
-                }
-                let dx = col - rc;
-                let Some(region) = region_of(dx, dy) else {
-                    continue;
-                };
-                let d2 = f64::from(dx * dx + dy * dy);
-                u[region.index()] += ol * self.weights.travel_coefficient(d2);
-            }
-        }
-        u
     }
 
     /// Breadth-first path distances from (rc, rr) through known passable cells, with the first
@@ -396,27 +381,25 @@ impl Explorer {
                 ..g
             };
         }
-        let utility = self.utilities(rc, rr);
-        // Best target per region: (ω·λ·δ, −path distance), then the lowest index.
+        // One pass over the cells of interest: eq. 7 per region and the best target per
+        // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
+        let mut utility = [0.0; 4];
         let mut best: [Option<(f64, u32, usize)>; 4] = [None; 4];
         for (i, &cell) in map.cells.iter().enumerate() {
             if !cell.is_of_interest() || i == robot {
                 continue;
             }
             let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
-            let Some(d) = self.target_distance(map, i) else {
+            let Some(region) = region_of(col - rc, row - rr) else {
                 continue;
             };
-            let (dx, dy) = (col - rc, row - rr);
-            let Some(region) = region_of(dx, dy) else {
-                continue;
-            };
-            let value = self.omega_lambda[i]
-                * self
-                    .weights
-                    .travel_coefficient(f64::from(dx * dx + dy * dy));
+            let d = self.target_distance(map, i);
+            let delta = d.map_or(1.0, |d| self.weights.travel_coefficient_at(f64::from(d)));
+            let value = self.omega_lambda[i] * delta;
+            utility[region.index()] += value;
+            let Some(d) = d else { continue };
             let slot = &mut best[region.index()];
-            if slot.is_none_or(|(v, bd, _)| value > v || (value == v && d < bd)) {
+            if slot.is_none_or(|(v, bd, _)| d < bd || (d == bd && value > v)) {
                 *slot = Some((value, d, i));
             }
         }
