@@ -74,6 +74,11 @@ pub trait Hierarchy<S> {
     /// Whether composite `node` has terminated in `s` (primitives are never asked). A child
     /// that is terminated in the current state is not eligible.
     fn terminated(&self, node: NodeId, s: &S) -> bool;
+    /// Whether primitive `node` may be executed in `s` (its precondition; default: always).
+    /// An unavailable primitive is not eligible, like a terminated subtask.
+    fn available(&self, _node: NodeId, _s: &S) -> bool {
+        true
+    }
     /// Whether composite `node`, started in `start`, has ended in `now` because of what
     /// happened since it started (e.g. "the robot entered a new cell"). Unlike
     /// [`Hierarchy::terminated`] this does not make the node ineligible. Default: never.
@@ -211,7 +216,7 @@ impl MaxqQ {
 
     fn eligible<S>(&self, h: &impl Hierarchy<S>, child: NodeId, s: &S) -> bool {
         match self.nodes[child].kind {
-            NodeKind::Primitive { .. } => true,
+            NodeKind::Primitive { .. } => h.available(child, s),
             NodeKind::Composite { .. } => !h.terminated(child, s),
         }
     }

@@ -192,6 +192,8 @@ pub struct RescueDomain<'a, O: HandOff> {
     facing_obstacle_after_move: bool,
     stuck: bool,
     progress: u32,
+    /// The last primitive moved the robot one cell along the desired heading or made progress.
+    on_course: bool,
     operator_turn: bool,
     done: bool,
     pub stats: RunStats,
@@ -230,6 +232,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             facing_obstacle_after_move: false,
             stuck: false,
             progress: 0,
+            on_course: false,
             operator_turn: false,
             done: false,
             stats: RunStats::default(),
@@ -306,6 +309,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             self.index(self.robot.cell) as u16,
             self.robot.heading,
         )
+        .with_on_course(self.on_course)
     }
 
     fn victim_status(&self) -> VictimStatus {
@@ -493,6 +497,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         let (dc, dr) = heading_before.step();
         let ahead = self.map.index(before.col + dc, before.row + dr);
         let came_against_obstacle = std::mem::take(&mut self.facing_obstacle_after_move);
+        let progress_before = self.progress;
         let slip = self.config.slip_probability;
         let rng = &mut self.rng;
         let victim_cell = &scene.victim_cell;
@@ -574,6 +579,12 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             }
         };
         self.perceive();
+        let moved_along = outcome == CellOutcome::Moved
+            && desired.is_some_and(|d| {
+                let c = self.robot.cell;
+                d.step() == (c.col - before.col, c.row - before.row)
+            });
+        self.on_course = moved_along || self.progress != progress_before;
         if outcome == CellOutcome::Moved && act == CellAction::Forward {
             let (dc, dr) = self.heading().step();
             let c = self.robot.cell;

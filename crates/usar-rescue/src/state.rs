@@ -20,6 +20,7 @@ const TARGETS: u8 = 2;
 const DONE: u8 = 4;
 const HEADING: u8 = 8;
 const VICTIM_MODE: u8 = 16;
+const ON_COURSE: u8 = 32;
 
 /// See the [module documentation](self).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -88,6 +89,17 @@ impl RescueState {
     /// Whether NG has somewhere to head (exploration target or victim).
     pub fn has_heading(&self) -> bool {
         self.flags & HEADING != 0
+    }
+    /// Marks that the last primitive kept the robot on course: it moved one cell along the
+    /// desired heading or made exploration progress (NG's pseudo-reward).
+    pub fn with_on_course(mut self, on_course: bool) -> Self {
+        if on_course {
+            self.flags |= ON_COURSE;
+        }
+        self
+    }
+    pub fn on_course(&self) -> bool {
+        self.flags & ON_COURSE != 0
     }
     pub fn victim_mode(&self) -> bool {
         self.flags & VICTIM_MODE != 0
