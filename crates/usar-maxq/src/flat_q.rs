@@ -101,27 +101,36 @@ impl FlatQ {
 }
 
 /// Flat Q-learning over a state space too large to allocate (paper 000's flat learner sees
-/// the robot's cell, heading and every state variable of the hierarchy at once): a row of
-/// `actions` values is created the first time a state is met. Same update, schedules and
-/// greedy tie-break (lowest action) as [`FlatQ`]; [`SparseFlatQ::stored_values`] counts the
-/// entries ever written, as the paper counts "Q-values stored".
+/// the whole unabstracted state: the robot's map, its pose and every other state variable of
+/// the hierarchy): a row of `actions` values is created the first time a state is met. Same
+/// update, schedules and greedy tie-break (lowest action) as [`FlatQ`];
+/// [`SparseFlatQ::stored_values`] counts the entries ever written, as the paper counts
+/// "Q-values stored". Millions of states are met, so a row is stored compactly: `f32` values
+/// and a bit per action saying whether it was written (at most 8 actions).
 #[derive(Clone, Debug)]
 pub struct SparseFlatQ {
     pub actions: usize,
     pub params: LearningParams,
     /// Row of each state key met so far (only looked up, never iterated).
     rows: FxHashMap<u64, u32>,
-    q: Table,
+    values: Vec<f32>,
+    /// Bit a of row r set when Q(r, a) was written.
+    written: Vec<u8>,
+    stored: usize,
     pub steps: u64,
 }
 
 impl SparseFlatQ {
+    /// A learner over `actions` ≤ 8 actions.
     pub fn new(actions: usize, params: LearningParams) -> Self {
+        assert!(actions <= 8, "SparseFlatQ supports at most 8 actions");
         Self {
             actions,
             params,
             rows: FxHashMap::default(),
-            q: Table::default(),
+            values: Vec::new(),
+            written: Vec::new(),
+            stored: 0,
             steps: 0,
         }
     }
@@ -133,7 +142,7 @@ impl SparseFlatQ {
 
     /// Values ever written.
     pub fn stored_values(&self) -> usize {
-        self.q.stored()
+        self.stored
     }
 
     /// The row of a state key, created (unwritten zeros) the first time it is met.
@@ -141,7 +150,8 @@ impl SparseFlatQ {
         let next = self.rows.len() as u32;
         let row = *self.rows.entry(key).or_insert(next) as usize;
         if row == next as usize {
-            self.q.grow(self.actions);
+            self.values.extend(std::iter::repeat_n(0.0, self.actions));
+            self.written.push(0);
         }
         row
     }
@@ -150,7 +160,16 @@ impl SparseFlatQ {
     fn greedy_in(&self, row: Option<usize>) -> (usize, f64) {
         match row {
             Some(row) => {
-                greedy_action(&self.q.values[row * self.actions..(row + 1) * self.actions])
+                let r = &self.values[row * self.actions..(row + 1) * self.actions];
+                r.iter()
+                    .enumerate()
+                    .fold((0, f64::NEG_INFINITY), |best, (a, &q)| {
+                        if f64::from(q) > best.1 {
+                            (a, f64::from(q))
+                        } else {
+                            best
+                        }
+                    })
             }
             None => (0, 0.0),
         }
@@ -186,11 +205,13 @@ impl SparseFlatQ {
                     .1
             };
             let alpha = self.params.alpha.at(self.steps);
-            self.q.update(
-                row * self.actions + a,
-                alpha,
-                r + self.params.gamma * future,
-            );
+            let i = row * self.actions + a;
+            let q = f64::from(self.values[i]);
+            self.values[i] = ((1.0 - alpha) * q + alpha * (r + self.params.gamma * future)) as f32;
+            if self.written[row] & (1 << a) == 0 {
+                self.written[row] |= 1 << a;
+                self.stored += 1;
+            }
             self.steps += 1;
             episode.reward += r;
             episode.steps += 1;

@@ -135,12 +135,6 @@ impl Table {
         }
     }
 
-    /// Appends `n` unwritten zero entries.
-    pub(crate) fn grow(&mut self, n: usize) {
-        self.values.extend(std::iter::repeat_n(0.0, n));
-        self.written.extend(std::iter::repeat_n(false, n));
-    }
-
     pub(crate) fn update(&mut self, i: usize, alpha: f64, target: f64) {
         self.values[i] = (1.0 - alpha) * self.values[i] + alpha * target;
         self.written[i] = true;

@@ -191,6 +191,8 @@ pub struct RescueDomain<'a, O: HandOff> {
     /// The robot drove forward into its cell and found an obstacle ahead: turning now avoids it.
     facing_obstacle_after_move: bool,
     stuck: bool,
+    /// Zobrist hash of the robot's whole map M (the flat learner's state includes M).
+    map_hash: u64,
     progress: u32,
     /// The last primitive moved the robot one cell along the desired heading or made progress.
     on_course: bool,
@@ -231,6 +233,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             slips_in_row: 0,
             facing_obstacle_after_move: false,
             stuck: false,
+            map_hash: initial_map_hash(view.classes.len()),
             progress: 0,
             on_course: false,
             operator_turn: false,
@@ -239,8 +242,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             teleoperated: false,
         };
         let i = d.index(start.0);
-        d.map.cells[i] = MapCell::OpenVisited.visited_on(view.terrain_classes[i]);
-        d.explorer.cell_changed(&d.map, start.0.col, start.0.row);
+        d.set_cell(i, MapCell::OpenVisited.visited_on(view.terrain_classes[i]));
         d.perceive();
         d.replan();
         d
@@ -251,6 +253,20 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
     pub fn teleoperated(mut self) -> Self {
         self.teleoperated = true;
         self
+    }
+
+    /// Writes cell `i` of the robot's map, keeping the exploration coefficients and the map's
+    /// Zobrist hash (part of the flat learner's state) up to date.
+    fn set_cell(&mut self, i: usize, cell: MapCell) {
+        let was = self.map.cells[i];
+        if was == cell {
+            return;
+        }
+        self.map_hash ^= zobrist(i, was) ^ zobrist(i, cell);
+        self.map.cells[i] = cell;
+        let cols = self.map.cols;
+        self.explorer
+            .cell_changed(&self.map, i as i32 % cols, i as i32 / cols);
     }
 
     fn index(&self, c: Cell) -> usize {
@@ -310,6 +326,29 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             self.robot.heading,
         )
         .with_on_course(self.on_course)
+        .with_flat_key(self.flat_key(victim, heading))
+    }
+
+    /// The flat learner's state (paper 000 §VI-A: flat Q-learning with "the same state
+    /// parameters"): every state variable of the hierarchy's subtasks without abstraction —
+    /// the whole map M (its Zobrist hash; it holds C₁…C₈ and the D_xy class ahead), the
+    /// robot's location L_R (cell and heading), the victim status V and the location L_V/R of
+    /// the possible victim being dealt with relative to the robot, the exploration direction
+    /// D_E and the heading toward its target, and whether the robot is stuck.
+    fn flat_key(&self, victim: VictimStatus, heading: Option<Direction>) -> u64 {
+        let c = self.robot.cell;
+        let relative_victim = self.current.map_or(0, |(k, _)| {
+            let (vc, vr) = self.victims[k].cell;
+            (((vc - c.col + 64) as u64) << 7) | (vr - c.row + 64) as u64
+        });
+        let small = (self.index(c) as u64) << 32
+            | u64::from(self.robot.heading) << 28
+            | (victim as u64) << 24
+            | self.guidance.direction.map_or(0, |d| d.index() as u64 + 1) << 20
+            | heading.map_or(0, |d| d.index() as u64 + 1) << 16
+            | u64::from(self.stuck) << 15
+            | relative_victim;
+        splitmix64(self.map_hash ^ splitmix64(small))
     }
 
     fn victim_status(&self) -> VictimStatus {
@@ -346,12 +385,12 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             && let Some(i) = self.map.index(ac, ar)
             && self.map.cells[i].is_unclassified()
         {
-            self.map.cells[i] = match class {
+            let seen = match class {
                 CellClass::Open => MapCell::OpenUnvisited,
                 CellClass::Climbable => MapCell::ClimbableUnvisited,
                 _ => MapCell::NonClimbable,
             };
-            self.explorer.cell_changed(&self.map, ac, ar);
+            self.set_cell(i, seen);
             self.progress += 1;
         }
         let infrared = self
@@ -369,14 +408,17 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             if let Some(i) = self.map.index(c, r)
                 && self.map.cells[i] == MapCell::Unknown
             {
-                self.map.cells[i] = MapCell::UnknownObstacle;
-                self.explorer.cell_changed(&self.map, c, r);
+                self.set_cell(i, MapCell::UnknownObstacle);
             }
         }
-        let heat = self
+        let n = self
             .perception
-            .heat(&scene.scene, &scene.view, cell, heading);
-        for h in heat {
+            .heat(&scene.scene, &scene.view, cell, heading)
+            .len();
+        for k in 0..n {
+            let h = self
+                .perception
+                .heat(&scene.scene, &scene.view, cell, heading)[k];
             if !h.human_signature || self.victims.iter().any(|v| v.cell == h.cell) {
                 continue;
             }
@@ -391,8 +433,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 status: Status::Pending,
             });
             if let Some(i) = self.map.index(h.cell.0, h.cell.1) {
-                self.map.cells[i] = MapCell::Victim;
-                self.explorer.cell_changed(&self.map, h.cell.0, h.cell.1);
+                self.set_cell(i, MapCell::Victim);
             }
         }
     }
@@ -474,8 +515,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         if status == Status::Rejected {
             let (c, r) = self.victims[k].cell;
             if let Some(i) = self.map.index(c, r) {
-                self.map.cells[i] = MapCell::Unknown;
-                self.explorer.cell_changed(&self.map, c, r);
+                self.set_cell(i, MapCell::Unknown);
             }
         }
         self.current = None;
@@ -529,8 +569,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 {
                     // The bump corrects the map: whatever the depth sensor said, the robot
                     // cannot drive there.
-                    self.map.cells[i] = MapCell::NonClimbable;
-                    self.explorer.cell_changed(&self.map, t.col, t.row);
+                    self.set_cell(i, MapCell::NonClimbable);
                     self.progress += 1;
                 }
                 rewards::COLLISION
@@ -550,11 +589,10 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 let c = self.robot.cell;
                 let i = self.index(c);
                 let was = self.map.cells[i];
-                self.map.cells[i] = was.visited_on(scene.view.terrain_classes[i]);
+                self.set_cell(i, was.visited_on(scene.view.terrain_classes[i]));
                 if was.is_visited() {
                     rewards::VISITED
                 } else {
-                    self.explorer.cell_changed(&self.map, c.col, c.row);
                     self.progress += 1;
                     let moved = Direction::ALL
                         .into_iter()
@@ -584,7 +622,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 let c = self.robot.cell;
                 d.step() == (c.col - before.col, c.row - before.row)
             });
-        self.on_course = moved_along || self.progress != progress_before;
+        // A bump also corrects the map (progress), but it is never on course.
+        self.on_course = moved_along
+            || (outcome != CellOutcome::Collided && self.progress != progress_before);
         if outcome == CellOutcome::Moved && act == CellAction::Forward {
             let (dc, dr) = self.heading().step();
             let c = self.robot.cell;
@@ -734,6 +774,26 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             _ => None,
         }
     }
+}
+
+/// SplitMix64's finaliser: a well-mixed 64-bit function of `x`.
+#[inline]
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// The Zobrist key of cell `i` holding `cell`.
+#[inline]
+fn zobrist(i: usize, cell: MapCell) -> u64 {
+    splitmix64(((i as u64) << 3 | cell as u64) ^ 0x2A5E_D0B1_57A7_E000)
+}
+
+/// The Zobrist hash of a map of `n` unknown cells.
+fn initial_map_hash(n: usize) -> u64 {
+    (0..n).fold(0, |h, i| h ^ zobrist(i, MapCell::Unknown))
 }
 
 impl MapCell {
