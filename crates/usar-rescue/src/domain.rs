@@ -191,6 +191,9 @@ pub struct RescueDomain<'a, O: HandOff> {
     /// The robot drove forward into its cell and found an obstacle ahead: turning now avoids it.
     facing_obstacle_after_move: bool,
     stuck: bool,
+    /// The guidance and the victim to deal with must be recomputed (the map, the robot's cell
+    /// or a victim's status changed since).
+    stale: bool,
     /// Zobrist hash of the robot's whole map M (the flat learner's state includes M).
     map_hash: u64,
     progress: u32,
@@ -214,12 +217,32 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         operator: O,
         seed: u64,
     ) -> Self {
+        let perception = Self::perception(scene, start, seed);
+        Self::with_perception(scene, start, weights, config, operator, seed, perception)
+    }
+
+    /// The sensors a run from `start` with `seed` uses (see [`RescueDomain::with_perception`]).
+    pub fn perception(scene: &RescueScene, start: (Cell, u8), seed: u64) -> Perception {
+        Perception::new(&scene.scene, &scene.view, start.0, seed ^ 0x5eed_0000_d15e)
+    }
+
+    /// As [`RescueDomain::new`] with sensors prepared beforehand (e.g. with
+    /// [`Perception::sense_all`]).
+    pub fn with_perception(
+        scene: &'a RescueScene,
+        start: (Cell, u8),
+        weights: ExplorationWeights,
+        config: DomainConfig,
+        operator: O,
+        seed: u64,
+        perception: Perception,
+    ) -> Self {
         let view = &scene.view;
         let map = CellMap::new(view.cols as i32, view.rows as i32);
         let explorer = Explorer::new(weights, &map);
         let mut d = Self {
             scene,
-            perception: Perception::new(&scene.scene, view, start.0, seed ^ 0x5eed_0000_d15e),
+            perception,
             robot: CellRobot::new(start.0, start.1, RotationStep::Quarter, true),
             map,
             explorer,
@@ -233,6 +256,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             slips_in_row: 0,
             facing_obstacle_after_move: false,
             stuck: false,
+            stale: true,
             map_hash: initial_map_hash(view.classes.len()),
             progress: 0,
             on_course: false,
@@ -263,6 +287,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             return;
         }
         self.map_hash ^= zobrist(i, was) ^ zobrist(i, cell);
+        self.stale = true;
         self.map.cells[i] = cell;
         let cols = self.map.cols;
         self.explorer
@@ -440,6 +465,15 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
 
     /// Recomputes the exploration guidance and the victim to deal with.
     fn replan(&mut self) {
+        if !self.stale {
+            // Same map, cell and victims: the same guidance and victim; only a turn may have
+            // brought the pending victim in view.
+            if !self.teleoperated {
+                self.check_at_hand();
+            }
+            return;
+        }
+        self.stale = false;
         let c = self.robot.cell;
         self.guidance = self
             .explorer
@@ -458,6 +492,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             return;
         }
         let mut best: Option<(u32, usize, Option<Direction>)> = None;
+        if self.victims.iter().any(|v| v.status == Status::Pending) {
+            self.explorer.search_all(&self.map, c.col, c.row);
+        }
         for (k, v) in self.victims.iter().enumerate() {
             if v.status != Status::Pending {
                 continue;
@@ -512,6 +549,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
     /// Ends the robot's dealing with possible victim `k`; a rejected one frees its cell.
     fn release(&mut self, k: usize, status: Status) {
         self.victims[k].status = status;
+        self.stale = true;
         if status == Status::Rejected {
             let (c, r) = self.victims[k].cell;
             if let Some(i) = self.map.index(c, r) {
@@ -584,6 +622,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 rewards::VISITED
             }
             CellOutcome::Moved => {
+                self.stale = true;
                 self.slips_in_row = 0;
                 self.stuck = false;
                 let c = self.robot.cell;

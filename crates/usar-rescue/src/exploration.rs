@@ -223,11 +223,31 @@ pub struct Explorer {
     /// First step from the robot toward each reached cell (Direction index).
     first_step: Vec<u8>,
     queue: Vec<u32>,
+    /// The four neighbours of each cell by [`Direction::index`], [`NONE`] outside the map.
+    neighbours: Vec<[u32; 4]>,
+    /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
+    delta: Vec<f64>,
 }
+
+/// No cell.
+const NONE: u32 = u32::MAX;
 
 impl Explorer {
     pub fn new(weights: ExplorationWeights, map: &CellMap) -> Self {
         let n = map.cells.len();
+        let mut neighbours = vec![[NONE; 4]; n];
+        for (i, nb) in neighbours.iter_mut().enumerate() {
+            let (col, row) = (i as i32 % map.cols, i as i32 / map.cols);
+            for dir in Direction::ALL {
+                let (dc, dr) = dir.step();
+                if let Some(k) = map.index(col + dc, row + dr) {
+                    nb[dir.index()] = k as u32;
+                }
+            }
+        }
+        let delta = (0..=n)
+            .map(|d| weights.travel_coefficient_at(d as f64))
+            .collect();
         let mut e = Self {
             weights,
             cols: map.cols,
@@ -235,6 +255,8 @@ impl Explorer {
             distance: vec![u32::MAX; n],
             first_step: vec![0; n],
             queue: Vec::with_capacity(n),
+            neighbours,
+            delta,
         };
         for i in 0..n {
             e.refresh(map, i);
@@ -277,33 +299,37 @@ impl Explorer {
         self.omega_lambda[i]
     }
 
-    /// Breadth-first path distances from (rc, rr) through known passable cells, with the first
-    /// step of a shortest path to each reached cell.
-    fn search(&mut self, map: &CellMap, rc: i32, rr: i32) {
+    /// Breadth-first path distances from cell `start` through known passable cells, with the
+    /// first step of a shortest path to each reached cell. With a `goal` the search stops as
+    /// soon as the goal (or, for an unclassified goal, the first cell facing it) is reached:
+    /// the distances of the cells met so far are final.
+    fn search(&mut self, map: &CellMap, start: usize, goal: Option<usize>) {
         self.distance.fill(u32::MAX);
         self.queue.clear();
-        let Some(start) = map.index(rc, rr) else {
-            return;
-        };
         self.distance[start] = 0;
         self.queue.push(start as u32);
+        let goal_unclassified = goal.is_some_and(|g| map.cells[g].is_unclassified());
+        let goal = goal.map_or(NONE, |g| g as u32);
         let mut head = 0;
         while head < self.queue.len() {
             let i = self.queue[head] as usize;
             head += 1;
-            let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+            let nb = self.neighbours[i];
+            if i as u32 == goal || (goal_unclassified && nb.contains(&goal)) {
+                return;
+            }
             let d = self.distance[i];
-            for dir in Direction::ALL {
-                let (dc, dr) = dir.step();
-                let Some(k) = map.index(col + dc, row + dr) else {
+            for (dir, &k) in nb.iter().enumerate() {
+                if k == NONE {
                     continue;
-                };
+                }
+                let k = k as usize;
                 if self.distance[k] != u32::MAX || !map.cells[k].is_known_passable() {
                     continue;
                 }
                 self.distance[k] = d + 1;
                 self.first_step[k] = if i == start {
-                    dir.index() as u8
+                    dir as u8
                 } else {
                     self.first_step[i]
                 };
@@ -312,19 +338,28 @@ impl Explorer {
         }
     }
 
-    /// The reached neighbour from which the robot can face unclassified cell `k`, and the
+    /// Path distances from the robot at (rc, rr) to every cell it can reach (for
+    /// [`Explorer::toward_victim`]; [`Explorer::guide`] may stop its search early).
+    pub fn search_all(&mut self, map: &CellMap, rc: i32, rr: i32) {
+        if let Some(start) = map.index(rc, rr) {
+            self.search(map, start, None);
+        }
+    }
+
+    /// The reached neighbour from which the robot can face unclassified cell `i`, and the
     /// direction it then faces: the nearest one by path.
-    fn stand_for(&self, map: &CellMap, col: i32, row: i32) -> Option<(usize, Direction)> {
+    #[inline]
+    fn stand_for(&self, i: usize) -> Option<(usize, Direction)> {
         let mut best: Option<(u32, usize, Direction)> = None;
         for dir in Direction::ALL {
-            let (dc, dr) = dir.step();
             // The stand cell lies opposite to the direction it faces.
-            let Some(s) = map.index(col - dc, row - dr) else {
+            let s = self.neighbours[i][(dir.index() + 2) % 4];
+            if s == NONE {
                 continue;
-            };
-            let d = self.distance[s];
+            }
+            let d = self.distance[s as usize];
             if d != u32::MAX && best.is_none_or(|(bd, _, _)| d < bd) {
-                best = Some((d, s, dir));
+                best = Some((d, s as usize, dir));
             }
         }
         best.map(|(_, s, dir)| (s, dir))
@@ -342,10 +377,8 @@ impl Explorer {
         if !cell.is_of_interest() {
             return None;
         }
-        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         if cell.is_unclassified() {
-            self.stand_for(map, col, row)
-                .map(|(s, _)| self.distance[s] + 1)
+            self.stand_for(i).map(|(s, _)| self.distance[s] + 1)
         } else {
             (self.distance[i] != u32::MAX).then_some(self.distance[i])
         }
@@ -353,9 +386,8 @@ impl Explorer {
 
     /// The heading toward target cell `i` (reachable, see [`Explorer::target_distance`]).
     fn heading_to(&self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
-        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         if map.cells[i].is_unclassified() {
-            let (stand, face) = self.stand_for(map, col, row)?;
+            let (stand, face) = self.stand_for(i)?;
             self.step_toward(stand, robot).or(Some(face))
         } else {
             self.step_toward(i, robot)
@@ -368,12 +400,16 @@ impl Explorer {
     /// `kept` from the previous call is followed until it is explored or cannot be reached, so
     /// that the regions, which move with the robot, do not make it turn back and forth.
     pub fn guide(&mut self, map: &CellMap, rc: i32, rr: i32, kept: Option<Guidance>) -> Guidance {
-        self.search(map, rc, rr);
-        let robot = map.index(rc, rr).unwrap_or(0);
-        if let Some(g) = kept
-            && let Some((tc, tr)) = g.target
-            && let Some(t) = map.index(tc, tr)
-            && t != robot
+        let Some(robot) = map.index(rc, rr) else {
+            return Guidance::default();
+        };
+        let kept_target = kept.and_then(|g| {
+            let (tc, tr) = g.target?;
+            map.index(tc, tr)
+                .filter(|&t| t != robot && map.cells[t].is_of_interest())
+        });
+        self.search(map, robot, kept_target);
+        if let (Some(g), Some(t)) = (kept, kept_target)
             && self.target_distance(map, t).is_some()
         {
             return Guidance {
@@ -381,26 +417,33 @@ impl Explorer {
                 ..g
             };
         }
+        // (The search stopped early only when it reached the kept target: it is complete.)
         // One pass over the cells of interest: eq. 7 per region and the best target per
         // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
         let mut utility = [0.0; 4];
         let mut best: [Option<(f64, u32, usize)>; 4] = [None; 4];
-        for (i, &cell) in map.cells.iter().enumerate() {
-            if !cell.is_of_interest() || i == robot {
-                continue;
-            }
-            let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
-            let Some(region) = region_of(col - rc, row - rr) else {
-                continue;
-            };
-            let d = self.target_distance(map, i);
-            let delta = d.map_or(1.0, |d| self.weights.travel_coefficient_at(f64::from(d)));
-            let value = self.omega_lambda[i] * delta;
-            utility[region.index()] += value;
-            let Some(d) = d else { continue };
-            let slot = &mut best[region.index()];
-            if slot.is_none_or(|(v, bd, _)| d < bd || (d == bd && value > v)) {
-                *slot = Some((value, d, i));
+        let cols = self.cols as usize;
+        let last = self.delta.len() - 1;
+        for (row, cells) in self.omega_lambda.chunks_exact(cols).enumerate() {
+            let dy = row as i32 - rr;
+            for (col, &ol) in cells.iter().enumerate() {
+                if ol == 0.0 {
+                    continue;
+                }
+                let i = row * cols + col;
+                let dx = col as i32 - rc;
+                let Some(region) = region_of(dx, dy) else {
+                    continue;
+                };
+                let d = self.target_distance(map, i);
+                let delta = d.map_or(1.0, |d| self.delta[(d as usize).min(last)]);
+                let value = ol * delta;
+                utility[region.index()] += value;
+                let Some(d) = d else { continue };
+                let slot = &mut best[region.index()];
+                if slot.is_none_or(|(v, bd, _)| d < bd || (d == bd && value > v)) {
+                    *slot = Some((value, d, i));
+                }
             }
         }
         let chosen = Direction::ALL
@@ -429,7 +472,7 @@ impl Explorer {
 
     /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
     /// that path's length; `None` when no such cell is reachable. Uses the distances of the
-    /// last [`Explorer::guide`] (call it first).
+    /// last [`Explorer::search_all`] (call it first).
     pub fn toward_victim(
         &self,
         map: &CellMap,
@@ -439,7 +482,7 @@ impl Explorer {
         vr: i32,
     ) -> Option<(Direction, u32)> {
         let robot = map.index(rc, rr)?;
-        let (stand, face) = self.stand_for(map, vc, vr)?;
+        let (stand, face) = self.stand_for(map.index(vc, vr)?)?;
         let d = self.distance[stand];
         Some((self.step_toward(stand, robot).unwrap_or(face), d))
     }

@@ -11,8 +11,9 @@
 //! - the **thermal camera** gives heat regions with h (human band) and size s; the victim
 //!   probability is [`victim_probability`].
 //!
-//! A reading depends only on (cell, heading): it is taken once per scene, the first time the
-//! robot stands there (noise from the scene's perception stream), and cached.
+//! A reading depends only on (cell, heading): it is taken once per run, the first time the
+//! robot stands there (noise from the run's perception stream), and cached; or all at once
+//! beforehand ([`Perception::sense_all`]).
 
 use crate::exploration::Direction;
 use rand::SeedableRng;
@@ -83,6 +84,7 @@ struct Reading {
 pub const INFRARED_NEIGHBOURS: [(i32, i32); 5] = [(0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1)];
 
 /// Sensors and the per-scene cache of their readings.
+#[derive(Clone)]
 pub struct Perception {
     world: SensingWorld,
     depth: DepthSpec,
@@ -114,6 +116,21 @@ impl Perception {
             readings: vec![None; view.classes.len() * 4],
             heat: Vec::new(),
             rng: Pcg64Mcg::seed_from_u64(seed),
+        }
+    }
+
+    /// Takes the reading of every cell a robot can stand on (passable terrain) and every
+    /// heading now, in a fixed order, so that a run reads only the cache. Training prepares
+    /// its scenes this way, in parallel and ahead of the (sequential) learning.
+    pub fn sense_all(&mut self, scene: &Scene, view: &CellView) {
+        for (i, class) in view.terrain_classes.iter().enumerate() {
+            if !class.is_passable_terrain(true) {
+                continue;
+            }
+            let cell = view.geometry.cell_of_index(i);
+            for heading in Direction::ALL {
+                self.reading(scene, view, cell, heading);
+            }
         }
     }
 
