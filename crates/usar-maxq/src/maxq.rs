@@ -55,6 +55,11 @@ pub trait Domain {
     fn step(&mut self, s: &Self::State, action: usize) -> (Self::State, f64);
     /// Whether the episode has ended in `s`.
     fn is_terminal(&self, s: &Self::State) -> bool;
+    /// Whether `action` may be executed in `s` (its precondition), for learners that choose
+    /// primitive actions directly ([`crate::SparseFlatQ`]). Default: always.
+    fn available(&self, _s: &Self::State, _action: usize) -> bool {
+        true
+    }
     /// A choice among the `children` of composite `node` made outside the learner — a human
     /// operator answering a hand-off (paper 000 §IV-A-5) — or `None` to let the learner choose.
     /// MAXQ-Q learns from a delegated choice exactly as from its own (it is off-policy), so the

@@ -227,6 +227,8 @@ pub struct Explorer {
     neighbours: Vec<[u32; 4]>,
     /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
     delta: Vec<f64>,
+    /// The start of the last search when it was complete (not stopped at a goal).
+    complete_from: Option<usize>,
 }
 
 /// No cell.
@@ -257,6 +259,7 @@ impl Explorer {
             queue: Vec::with_capacity(n),
             neighbours,
             delta,
+            complete_from: None,
         };
         for i in 0..n {
             e.refresh(map, i);
@@ -306,6 +309,7 @@ impl Explorer {
     fn search(&mut self, map: &CellMap, start: usize, goal: Option<usize>) {
         self.distance.fill(u32::MAX);
         self.queue.clear();
+        self.complete_from = None;
         self.distance[start] = 0;
         self.queue.push(start as u32);
         let goal_unclassified = goal.is_some_and(|g| map.cells[g].is_unclassified());
@@ -336,12 +340,17 @@ impl Explorer {
                 self.queue.push(k as u32);
             }
         }
+        self.complete_from = Some(start);
     }
 
     /// Path distances from the robot at (rc, rr) to every cell it can reach (for
-    /// [`Explorer::toward_victim`]; [`Explorer::guide`] may stop its search early).
+    /// [`Explorer::toward_victim`]; [`Explorer::guide`] may stop its search early). Reuses
+    /// the last search when it was complete and from the same cell: call it right after
+    /// `guide`, on the same map.
     pub fn search_all(&mut self, map: &CellMap, rc: i32, rr: i32) {
-        if let Some(start) = map.index(rc, rr) {
+        if let Some(start) = map.index(rc, rr)
+            && self.complete_from != Some(start)
+        {
             self.search(map, start, None);
         }
     }

@@ -152,6 +152,10 @@ impl Domain for FlatDomain<'_, '_> {
     fn is_terminal(&self, s: &RescueState) -> bool {
         s.done()
     }
+    /// The same precondition as the hierarchy's: Exit only when nothing is left to explore.
+    fn available(&self, s: &RescueState, a: usize) -> bool {
+        FLAT_ACTIONS[a] != action::EXIT || !s.targets_remain()
+    }
 }
 
 /// Trains MAXQ-Q (and flat Q) over `config.trials` scenes; `progress(trials_done)` after each.
