@@ -101,27 +101,37 @@ impl FlatQ {
 }
 
 /// Flat Q-learning over a state space too large to allocate (paper 000's flat learner sees
-/// the robot's cell, heading and every state variable of the hierarchy at once): a row of
-/// `actions` values is created the first time a state is met. Same update, schedules and
-/// greedy tie-break (lowest action) as [`FlatQ`]; [`SparseFlatQ::stored_values`] counts the
-/// entries ever written, as the paper counts "Q-values stored".
+/// the whole unabstracted state: the robot's map, its pose and every other state variable of
+/// the hierarchy): a row of `actions` values is created the first time a state is met. Same
+/// update, schedules and greedy tie-break (lowest action) as [`FlatQ`], over the actions
+/// [`Domain::available`] in the state;
+/// [`SparseFlatQ::stored_values`] counts the entries ever written, as the paper counts
+/// "Q-values stored". Millions of states are met, so a row is stored compactly: `f32` values
+/// and a bit per action saying whether it was written (at most 8 actions).
 #[derive(Clone, Debug)]
 pub struct SparseFlatQ {
     pub actions: usize,
     pub params: LearningParams,
     /// Row of each state key met so far (only looked up, never iterated).
     rows: FxHashMap<u64, u32>,
-    q: Table,
+    values: Vec<f32>,
+    /// Bit a of row r set when Q(r, a) was written.
+    written: Vec<u8>,
+    stored: usize,
     pub steps: u64,
 }
 
 impl SparseFlatQ {
+    /// A learner over `actions` ≤ 8 actions.
     pub fn new(actions: usize, params: LearningParams) -> Self {
+        assert!(actions <= 8, "SparseFlatQ supports at most 8 actions");
         Self {
             actions,
             params,
             rows: FxHashMap::default(),
-            q: Table::default(),
+            values: Vec::new(),
+            written: Vec::new(),
+            stored: 0,
             steps: 0,
         }
     }
@@ -133,7 +143,7 @@ impl SparseFlatQ {
 
     /// Values ever written.
     pub fn stored_values(&self) -> usize {
-        self.q.stored()
+        self.stored
     }
 
     /// The row of a state key, created (unwritten zeros) the first time it is met.
@@ -141,24 +151,44 @@ impl SparseFlatQ {
         let next = self.rows.len() as u32;
         let row = *self.rows.entry(key).or_insert(next) as usize;
         if row == next as usize {
-            self.q.grow(self.actions);
+            self.values.extend(std::iter::repeat_n(0.0, self.actions));
+            self.written.push(0);
         }
         row
     }
 
-    /// The greedy action and value of a row; a state never met has only zeros.
-    fn greedy_in(&self, row: Option<usize>) -> (usize, f64) {
-        match row {
-            Some(row) => {
-                greedy_action(&self.q.values[row * self.actions..(row + 1) * self.actions])
+    /// The greedy action among those `available` (bit a) and its value; a state never met
+    /// has only zeros.
+    fn greedy_in(&self, row: Option<usize>, available: u8) -> (usize, f64) {
+        let mut best = (0, f64::NEG_INFINITY);
+        for a in 0..self.actions {
+            if available & (1 << a) == 0 {
+                continue;
             }
-            None => (0, 0.0),
+            let q = row.map_or(0.0, |row| f64::from(self.values[row * self.actions + a]));
+            if q > best.1 {
+                best = (a, q);
+            }
+        }
+        if best.1 == f64::NEG_INFINITY {
+            (0, 0.0)
+        } else {
+            best
         }
     }
 
-    /// The greedy action of a state (action 0 for a state never met).
+    /// The actions available in `s` as a bit mask.
+    fn available<S, D: Domain<State = S>>(&self, domain: &D, s: &S) -> u8 {
+        (0..self.actions)
+            .filter(|&a| domain.available(s, a))
+            .fold(0, |m, a| m | 1 << a)
+    }
+
+    /// The greedy action of a state over all actions (action 0 for a state never met).
     pub fn greedy(&self, key: u64) -> usize {
-        self.greedy_in(self.rows.get(&key).map(|&r| r as usize)).0
+        let all = ((1u16 << self.actions) - 1) as u8;
+        self.greedy_in(self.rows.get(&key).map(|&r| r as usize), all)
+            .0
     }
 
     /// One learning episode; `key` maps a state to its identity.
@@ -173,24 +203,32 @@ impl SparseFlatQ {
         let mut s = s0;
         while !domain.is_terminal(&s) && episode.steps < self.params.max_steps_per_episode {
             let row = self.row(key(&s));
+            let available = self.available(domain, &s);
             let a = if rng.random::<f64>() < self.params.epsilon.at(self.steps) {
-                rng.random_range(0..self.actions)
+                let pick = rng.random_range(0..available.count_ones());
+                (0..self.actions)
+                    .filter(|&a| available & (1 << a) != 0)
+                    .nth(pick as usize)
+                    .unwrap_or(0)
             } else {
-                self.greedy_in(Some(row)).0
+                self.greedy_in(Some(row), available).0
             };
             let (next, r) = domain.step(&s, a);
             let future = if domain.is_terminal(&next) {
                 0.0
             } else {
-                self.greedy_in(self.rows.get(&key(&next)).map(|&r| r as usize))
+                let available = self.available(domain, &next);
+                self.greedy_in(self.rows.get(&key(&next)).map(|&r| r as usize), available)
                     .1
             };
             let alpha = self.params.alpha.at(self.steps);
-            self.q.update(
-                row * self.actions + a,
-                alpha,
-                r + self.params.gamma * future,
-            );
+            let i = row * self.actions + a;
+            let q = f64::from(self.values[i]);
+            self.values[i] = ((1.0 - alpha) * q + alpha * (r + self.params.gamma * future)) as f32;
+            if self.written[row] & (1 << a) == 0 {
+                self.written[row] |= 1 << a;
+                self.stored += 1;
+            }
             self.steps += 1;
             episode.reward += r;
             episode.steps += 1;

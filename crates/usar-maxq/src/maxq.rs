@@ -55,6 +55,11 @@ pub trait Domain {
     fn step(&mut self, s: &Self::State, action: usize) -> (Self::State, f64);
     /// Whether the episode has ended in `s`.
     fn is_terminal(&self, s: &Self::State) -> bool;
+    /// Whether `action` may be executed in `s` (its precondition), for learners that choose
+    /// primitive actions directly ([`crate::SparseFlatQ`]). Default: always.
+    fn available(&self, _s: &Self::State, _action: usize) -> bool {
+        true
+    }
     /// A choice among the `children` of composite `node` made outside the learner — a human
     /// operator answering a hand-off (paper 000 §IV-A-5) — or `None` to let the learner choose.
     /// MAXQ-Q learns from a delegated choice exactly as from its own (it is off-policy), so the
@@ -74,6 +79,11 @@ pub trait Hierarchy<S> {
     /// Whether composite `node` has terminated in `s` (primitives are never asked). A child
     /// that is terminated in the current state is not eligible.
     fn terminated(&self, node: NodeId, s: &S) -> bool;
+    /// Whether primitive `node` may be executed in `s` (its precondition; default: always).
+    /// An unavailable primitive is not eligible, like a terminated subtask.
+    fn available(&self, _node: NodeId, _s: &S) -> bool {
+        true
+    }
     /// Whether composite `node`, started in `start`, has ended in `now` because of what
     /// happened since it started (e.g. "the robot entered a new cell"). Unlike
     /// [`Hierarchy::terminated`] this does not make the node ineligible. Default: never.
@@ -128,12 +138,6 @@ impl Table {
             values: vec![0.0; len],
             written: vec![false; len],
         }
-    }
-
-    /// Appends `n` unwritten zero entries.
-    pub(crate) fn grow(&mut self, n: usize) {
-        self.values.extend(std::iter::repeat_n(0.0, n));
-        self.written.extend(std::iter::repeat_n(false, n));
     }
 
     pub(crate) fn update(&mut self, i: usize, alpha: f64, target: f64) {
@@ -211,7 +215,7 @@ impl MaxqQ {
 
     fn eligible<S>(&self, h: &impl Hierarchy<S>, child: NodeId, s: &S) -> bool {
         match self.nodes[child].kind {
-            NodeKind::Primitive { .. } => true,
+            NodeKind::Primitive { .. } => h.available(child, s),
             NodeKind::Composite { .. } => !h.terminated(child, s),
         }
     }

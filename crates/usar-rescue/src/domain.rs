@@ -191,7 +191,14 @@ pub struct RescueDomain<'a, O: HandOff> {
     /// The robot drove forward into its cell and found an obstacle ahead: turning now avoids it.
     facing_obstacle_after_move: bool,
     stuck: bool,
+    /// The guidance and the victim to deal with must be recomputed (the map, the robot's cell
+    /// or a victim's status changed since).
+    stale: bool,
+    /// Zobrist hash of the robot's whole map M (the flat learner's state includes M).
+    map_hash: u64,
     progress: u32,
+    /// The last primitive moved the robot one cell along the desired heading or made progress.
+    on_course: bool,
     operator_turn: bool,
     done: bool,
     pub stats: RunStats,
@@ -210,12 +217,32 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         operator: O,
         seed: u64,
     ) -> Self {
+        let perception = Self::perception(scene, start, seed);
+        Self::with_perception(scene, start, weights, config, operator, seed, perception)
+    }
+
+    /// The sensors a run from `start` with `seed` uses (see [`RescueDomain::with_perception`]).
+    pub fn perception(scene: &RescueScene, start: (Cell, u8), seed: u64) -> Perception {
+        Perception::new(&scene.scene, &scene.view, start.0, seed ^ 0x5eed_0000_d15e)
+    }
+
+    /// As [`RescueDomain::new`] with sensors prepared beforehand (e.g. with
+    /// [`Perception::sense_all`]).
+    pub fn with_perception(
+        scene: &'a RescueScene,
+        start: (Cell, u8),
+        weights: ExplorationWeights,
+        config: DomainConfig,
+        operator: O,
+        seed: u64,
+        perception: Perception,
+    ) -> Self {
         let view = &scene.view;
         let map = CellMap::new(view.cols as i32, view.rows as i32);
         let explorer = Explorer::new(weights, &map);
         let mut d = Self {
             scene,
-            perception: Perception::new(&scene.scene, view, start.0, seed ^ 0x5eed_0000_d15e),
+            perception,
             robot: CellRobot::new(start.0, start.1, RotationStep::Quarter, true),
             map,
             explorer,
@@ -229,15 +256,17 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             slips_in_row: 0,
             facing_obstacle_after_move: false,
             stuck: false,
+            stale: true,
+            map_hash: initial_map_hash(view.classes.len()),
             progress: 0,
+            on_course: false,
             operator_turn: false,
             done: false,
             stats: RunStats::default(),
             teleoperated: false,
         };
         let i = d.index(start.0);
-        d.map.cells[i] = MapCell::OpenVisited.visited_on(view.terrain_classes[i]);
-        d.explorer.cell_changed(&d.map, start.0.col, start.0.row);
+        d.set_cell(i, MapCell::OpenVisited.visited_on(view.terrain_classes[i]));
         d.perceive();
         d.replan();
         d
@@ -248,6 +277,21 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
     pub fn teleoperated(mut self) -> Self {
         self.teleoperated = true;
         self
+    }
+
+    /// Writes cell `i` of the robot's map, keeping the exploration coefficients and the map's
+    /// Zobrist hash (part of the flat learner's state) up to date.
+    fn set_cell(&mut self, i: usize, cell: MapCell) {
+        let was = self.map.cells[i];
+        if was == cell {
+            return;
+        }
+        self.map_hash ^= zobrist(i, was) ^ zobrist(i, cell);
+        self.stale = true;
+        self.map.cells[i] = cell;
+        let cols = self.map.cols;
+        self.explorer
+            .cell_changed(&self.map, i as i32 % cols, i as i32 / cols);
     }
 
     fn index(&self, c: Cell) -> usize {
@@ -306,6 +350,30 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             self.index(self.robot.cell) as u16,
             self.robot.heading,
         )
+        .with_on_course(self.on_course)
+        .with_flat_key(self.flat_key(victim, heading))
+    }
+
+    /// The flat learner's state (paper 000 §VI-A: flat Q-learning with "the same state
+    /// parameters"): every state variable of the hierarchy's subtasks without abstraction —
+    /// the whole map M (its Zobrist hash; it holds C₁…C₈ and the D_xy class ahead), the
+    /// robot's location L_R (cell and heading), the victim status V and the location L_V/R of
+    /// the possible victim being dealt with relative to the robot, the exploration direction
+    /// D_E and the heading toward its target, and whether the robot is stuck.
+    fn flat_key(&self, victim: VictimStatus, heading: Option<Direction>) -> u64 {
+        let c = self.robot.cell;
+        let relative_victim = self.current.map_or(0, |(k, _)| {
+            let (vc, vr) = self.victims[k].cell;
+            (((vc - c.col + 64) as u64) << 7) | (vr - c.row + 64) as u64
+        });
+        let small = (self.index(c) as u64) << 32
+            | u64::from(self.robot.heading) << 28
+            | (victim as u64) << 24
+            | self.guidance.direction.map_or(0, |d| d.index() as u64 + 1) << 20
+            | heading.map_or(0, |d| d.index() as u64 + 1) << 16
+            | u64::from(self.stuck) << 15
+            | relative_victim;
+        splitmix64(self.map_hash ^ splitmix64(small))
     }
 
     fn victim_status(&self) -> VictimStatus {
@@ -342,12 +410,12 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             && let Some(i) = self.map.index(ac, ar)
             && self.map.cells[i].is_unclassified()
         {
-            self.map.cells[i] = match class {
+            let seen = match class {
                 CellClass::Open => MapCell::OpenUnvisited,
                 CellClass::Climbable => MapCell::ClimbableUnvisited,
                 _ => MapCell::NonClimbable,
             };
-            self.explorer.cell_changed(&self.map, ac, ar);
+            self.set_cell(i, seen);
             self.progress += 1;
         }
         let infrared = self
@@ -365,14 +433,17 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             if let Some(i) = self.map.index(c, r)
                 && self.map.cells[i] == MapCell::Unknown
             {
-                self.map.cells[i] = MapCell::UnknownObstacle;
-                self.explorer.cell_changed(&self.map, c, r);
+                self.set_cell(i, MapCell::UnknownObstacle);
             }
         }
-        let heat = self
+        let n = self
             .perception
-            .heat(&scene.scene, &scene.view, cell, heading);
-        for h in heat {
+            .heat(&scene.scene, &scene.view, cell, heading)
+            .len();
+        for k in 0..n {
+            let h = self
+                .perception
+                .heat(&scene.scene, &scene.view, cell, heading)[k];
             if !h.human_signature || self.victims.iter().any(|v| v.cell == h.cell) {
                 continue;
             }
@@ -387,14 +458,22 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 status: Status::Pending,
             });
             if let Some(i) = self.map.index(h.cell.0, h.cell.1) {
-                self.map.cells[i] = MapCell::Victim;
-                self.explorer.cell_changed(&self.map, h.cell.0, h.cell.1);
+                self.set_cell(i, MapCell::Victim);
             }
         }
     }
 
     /// Recomputes the exploration guidance and the victim to deal with.
     fn replan(&mut self) {
+        if !self.stale {
+            // Same map, cell and victims: the same guidance and victim; only a turn may have
+            // brought the pending victim in view.
+            if !self.teleoperated {
+                self.check_at_hand();
+            }
+            return;
+        }
+        self.stale = false;
         let c = self.robot.cell;
         self.guidance = self
             .explorer
@@ -413,6 +492,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             return;
         }
         let mut best: Option<(u32, usize, Option<Direction>)> = None;
+        if self.victims.iter().any(|v| v.status == Status::Pending) {
+            self.explorer.search_all(&self.map, c.col, c.row);
+        }
         for (k, v) in self.victims.iter().enumerate() {
             if v.status != Status::Pending {
                 continue;
@@ -467,11 +549,11 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
     /// Ends the robot's dealing with possible victim `k`; a rejected one frees its cell.
     fn release(&mut self, k: usize, status: Status) {
         self.victims[k].status = status;
+        self.stale = true;
         if status == Status::Rejected {
             let (c, r) = self.victims[k].cell;
             if let Some(i) = self.map.index(c, r) {
-                self.map.cells[i] = MapCell::Unknown;
-                self.explorer.cell_changed(&self.map, c, r);
+                self.set_cell(i, MapCell::Unknown);
             }
         }
         self.current = None;
@@ -493,6 +575,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         let (dc, dr) = heading_before.step();
         let ahead = self.map.index(before.col + dc, before.row + dr);
         let came_against_obstacle = std::mem::take(&mut self.facing_obstacle_after_move);
+        let progress_before = self.progress;
         let slip = self.config.slip_probability;
         let rng = &mut self.rng;
         let victim_cell = &scene.victim_cell;
@@ -524,8 +607,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 {
                     // The bump corrects the map: whatever the depth sensor said, the robot
                     // cannot drive there.
-                    self.map.cells[i] = MapCell::NonClimbable;
-                    self.explorer.cell_changed(&self.map, t.col, t.row);
+                    self.set_cell(i, MapCell::NonClimbable);
                     self.progress += 1;
                 }
                 rewards::COLLISION
@@ -540,16 +622,16 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 rewards::VISITED
             }
             CellOutcome::Moved => {
+                self.stale = true;
                 self.slips_in_row = 0;
                 self.stuck = false;
                 let c = self.robot.cell;
                 let i = self.index(c);
                 let was = self.map.cells[i];
-                self.map.cells[i] = was.visited_on(scene.view.terrain_classes[i]);
+                self.set_cell(i, was.visited_on(scene.view.terrain_classes[i]));
                 if was.is_visited() {
                     rewards::VISITED
                 } else {
-                    self.explorer.cell_changed(&self.map, c.col, c.row);
                     self.progress += 1;
                     let moved = Direction::ALL
                         .into_iter()
@@ -574,6 +656,14 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             }
         };
         self.perceive();
+        let moved_along = outcome == CellOutcome::Moved
+            && desired.is_some_and(|d| {
+                let c = self.robot.cell;
+                d.step() == (c.col - before.col, c.row - before.row)
+            });
+        // A bump also corrects the map (progress), but it is never on course.
+        self.on_course = moved_along
+            || (outcome != CellOutcome::Collided && self.progress != progress_before);
         if outcome == CellOutcome::Moved && act == CellAction::Forward {
             let (dc, dr) = self.heading().step();
             let c = self.robot.cell;
@@ -723,6 +813,26 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             _ => None,
         }
     }
+}
+
+/// SplitMix64's finaliser: a well-mixed 64-bit function of `x`.
+#[inline]
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// The Zobrist key of cell `i` holding `cell`.
+#[inline]
+fn zobrist(i: usize, cell: MapCell) -> u64 {
+    splitmix64(((i as u64) << 3 | cell as u64) ^ 0x2A5E_D0B1_57A7_E000)
+}
+
+/// The Zobrist hash of a map of `n` unknown cells.
+fn initial_map_hash(n: usize) -> u64 {
+    (0..n).fold(0, |h, i| h ^ zobrist(i, MapCell::Unknown))
 }
 
 impl MapCell {

@@ -10,16 +10,19 @@
 //! ```
 //!
 //! with the terrain coefficient ω (eq. 8), the neighbouring-cells coefficient λ (eq. 9) and the
-//! travel coefficient δ (eq. 10) of [`ExplorationWeights`]; d_x is the Euclidean distance in
-//! cells from the robot's cell to x. The region with the largest utility is the exploration
-//! direction D_E.
+//! travel coefficient δ (eq. 10) of [`ExplorationWeights`]. d_x is the robot's *travel*
+//! distance to x in cells: the shortest path through cells its map knows it can cross (to the
+//! cell from which it faces x, plus one, when x is not classified yet); a cell of interest
+//! the robot can neither reach nor face has no travel distance and δ = 1 ("elsewhere"). The
+//! region with the largest utility among those holding a reachable cell of interest is the
+//! exploration direction D_E.
 //!
 //! **From D_E to a heading.** The paper hands D_E to the navigation subtask and lets it learn to
 //! move that way through the rubble. Here the navigation subtask is given, besides D_E, the
 //! *first step* of the shortest path (through cells the robot knows it can cross) to the cell
-//! of interest of region D_E it can reach with the largest ω·λ·δ (ties: the nearest by path).
-//! Only cells of interest the robot can reach or face from its known free cells count as
-//! targets; a region without such a target is skipped (its unknown cells lie behind
+//! of interest of region D_E nearest to it by path (ties: the largest ω·λ·δ), so that NG
+//! explores locally in direction D_E. Only cells of interest the robot can reach or face from
+//! its known free cells count as targets; a region without such a target is skipped (its unknown cells lie behind
 //! obstacles). This keeps the direction-based choice of the paper and removes the local minima
 //! of following a compass direction through rubble (the paper's 1 786–2 026 steps per scene).
 
@@ -172,14 +175,20 @@ impl ExplorationWeights {
     /// δ (eq. 10) at squared distance `d2` (cells²).
     #[inline]
     pub fn travel_coefficient(&self, d2: f64) -> f64 {
-        let d = &self.distance_cells;
-        if d2 <= d[0] * d[0] {
+        self.travel_coefficient_at(d2.max(0.0).sqrt())
+    }
+
+    /// δ (eq. 10) at distance `d` (cells).
+    #[inline]
+    pub fn travel_coefficient_at(&self, d: f64) -> f64 {
+        let t = &self.distance_cells;
+        if d <= t[0] {
             self.travel[0]
-        } else if d2 <= d[1] * d[1] {
+        } else if d <= t[1] {
             self.travel[1]
-        } else if d2 <= d[2] * d[2] {
+        } else if d <= t[2] {
             self.travel[2]
-        } else if d2 <= d[3] * d[3] {
+        } else if d <= t[3] {
             self.travel[3]
         } else {
             1.0
@@ -207,7 +216,6 @@ pub struct Guidance {
 pub struct Explorer {
     pub weights: ExplorationWeights,
     cols: i32,
-    rows: i32,
     /// ω_x·λ_x of every cell of interest, 0 for the other cells.
     omega_lambda: Vec<f64>,
     /// Path distance (steps) from the robot through known passable cells; u32::MAX unreached.
@@ -215,19 +223,43 @@ pub struct Explorer {
     /// First step from the robot toward each reached cell (Direction index).
     first_step: Vec<u8>,
     queue: Vec<u32>,
+    /// The four neighbours of each cell by [`Direction::index`], [`NONE`] outside the map.
+    neighbours: Vec<[u32; 4]>,
+    /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
+    delta: Vec<f64>,
+    /// The start of the last search when it was complete (not stopped at a goal).
+    complete_from: Option<usize>,
 }
+
+/// No cell.
+const NONE: u32 = u32::MAX;
 
 impl Explorer {
     pub fn new(weights: ExplorationWeights, map: &CellMap) -> Self {
         let n = map.cells.len();
+        let mut neighbours = vec![[NONE; 4]; n];
+        for (i, nb) in neighbours.iter_mut().enumerate() {
+            let (col, row) = (i as i32 % map.cols, i as i32 / map.cols);
+            for dir in Direction::ALL {
+                let (dc, dr) = dir.step();
+                if let Some(k) = map.index(col + dc, row + dr) {
+                    nb[dir.index()] = k as u32;
+                }
+            }
+        }
+        let delta = (0..=n)
+            .map(|d| weights.travel_coefficient_at(d as f64))
+            .collect();
         let mut e = Self {
             weights,
             cols: map.cols,
-            rows: map.rows,
             omega_lambda: vec![0.0; n],
             distance: vec![u32::MAX; n],
             first_step: vec![0; n],
             queue: Vec::with_capacity(n),
+            neighbours,
+            delta,
+            complete_from: None,
         };
         for i in 0..n {
             e.refresh(map, i);
@@ -270,76 +302,73 @@ impl Explorer {
         self.omega_lambda[i]
     }
 
-    /// Eq. 7 for the robot at (rc, rr): the four utilities, by [`Direction::index`].
-    pub fn utilities(&self, rc: i32, rr: i32) -> [f64; 4] {
-        let mut u = [0.0; 4];
-        for row in 0..self.rows {
-            let dy = row - rr;
-            let base = (row * self.cols) as usize;
-            for col in 0..self.cols {
-                let ol = self.omega_lambda[base + col as usize];
-                if ol == 0.0 {
-                    continue;
-                }
-                let dx = col - rc;
-                let Some(region) = region_of(dx, dy) else {
-                    continue;
-                };
-                let d2 = f64::from(dx * dx + dy * dy);
-                u[region.index()] += ol * self.weights.travel_coefficient(d2);
-            }
-        }
-        u
-    }
-
-    /// Breadth-first path distances from (rc, rr) through known passable cells, with the first
-    /// step of a shortest path to each reached cell.
-    fn search(&mut self, map: &CellMap, rc: i32, rr: i32) {
+    /// Breadth-first path distances from cell `start` through known passable cells, with the
+    /// first step of a shortest path to each reached cell. With a `goal` the search stops as
+    /// soon as the goal (or, for an unclassified goal, the first cell facing it) is reached:
+    /// the distances of the cells met so far are final.
+    fn search(&mut self, map: &CellMap, start: usize, goal: Option<usize>) {
         self.distance.fill(u32::MAX);
         self.queue.clear();
-        let Some(start) = map.index(rc, rr) else {
-            return;
-        };
+        self.complete_from = None;
         self.distance[start] = 0;
         self.queue.push(start as u32);
+        let goal_unclassified = goal.is_some_and(|g| map.cells[g].is_unclassified());
+        let goal = goal.map_or(NONE, |g| g as u32);
         let mut head = 0;
         while head < self.queue.len() {
             let i = self.queue[head] as usize;
             head += 1;
-            let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
+            let nb = self.neighbours[i];
+            if i as u32 == goal || (goal_unclassified && nb.contains(&goal)) {
+                return;
+            }
             let d = self.distance[i];
-            for dir in Direction::ALL {
-                let (dc, dr) = dir.step();
-                let Some(k) = map.index(col + dc, row + dr) else {
+            for (dir, &k) in nb.iter().enumerate() {
+                if k == NONE {
                     continue;
-                };
+                }
+                let k = k as usize;
                 if self.distance[k] != u32::MAX || !map.cells[k].is_known_passable() {
                     continue;
                 }
                 self.distance[k] = d + 1;
                 self.first_step[k] = if i == start {
-                    dir.index() as u8
+                    dir as u8
                 } else {
                     self.first_step[i]
                 };
                 self.queue.push(k as u32);
             }
         }
+        self.complete_from = Some(start);
     }
 
-    /// The reached neighbour from which the robot can face unclassified cell `k`, and the
+    /// Path distances from the robot at (rc, rr) to every cell it can reach (for
+    /// [`Explorer::toward_victim`]; [`Explorer::guide`] may stop its search early). Reuses
+    /// the last search when it was complete and from the same cell: call it right after
+    /// `guide`, on the same map.
+    pub fn search_all(&mut self, map: &CellMap, rc: i32, rr: i32) {
+        if let Some(start) = map.index(rc, rr)
+            && self.complete_from != Some(start)
+        {
+            self.search(map, start, None);
+        }
+    }
+
+    /// The reached neighbour from which the robot can face unclassified cell `i`, and the
     /// direction it then faces: the nearest one by path.
-    fn stand_for(&self, map: &CellMap, col: i32, row: i32) -> Option<(usize, Direction)> {
+    #[inline]
+    fn stand_for(&self, i: usize) -> Option<(usize, Direction)> {
         let mut best: Option<(u32, usize, Direction)> = None;
         for dir in Direction::ALL {
-            let (dc, dr) = dir.step();
             // The stand cell lies opposite to the direction it faces.
-            let Some(s) = map.index(col - dc, row - dr) else {
+            let s = self.neighbours[i][(dir.index() + 2) % 4];
+            if s == NONE {
                 continue;
-            };
-            let d = self.distance[s];
+            }
+            let d = self.distance[s as usize];
             if d != u32::MAX && best.is_none_or(|(bd, _, _)| d < bd) {
-                best = Some((d, s, dir));
+                best = Some((d, s as usize, dir));
             }
         }
         best.map(|(_, s, dir)| (s, dir))
@@ -357,10 +386,8 @@ impl Explorer {
         if !cell.is_of_interest() {
             return None;
         }
-        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         if cell.is_unclassified() {
-            self.stand_for(map, col, row)
-                .map(|(s, _)| self.distance[s] + 1)
+            self.stand_for(i).map(|(s, _)| self.distance[s] + 1)
         } else {
             (self.distance[i] != u32::MAX).then_some(self.distance[i])
         }
@@ -368,9 +395,8 @@ impl Explorer {
 
     /// The heading toward target cell `i` (reachable, see [`Explorer::target_distance`]).
     fn heading_to(&self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
-        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         if map.cells[i].is_unclassified() {
-            let (stand, face) = self.stand_for(map, col, row)?;
+            let (stand, face) = self.stand_for(i)?;
             self.step_toward(stand, robot).or(Some(face))
         } else {
             self.step_toward(i, robot)
@@ -383,12 +409,16 @@ impl Explorer {
     /// `kept` from the previous call is followed until it is explored or cannot be reached, so
     /// that the regions, which move with the robot, do not make it turn back and forth.
     pub fn guide(&mut self, map: &CellMap, rc: i32, rr: i32, kept: Option<Guidance>) -> Guidance {
-        self.search(map, rc, rr);
-        let robot = map.index(rc, rr).unwrap_or(0);
-        if let Some(g) = kept
-            && let Some((tc, tr)) = g.target
-            && let Some(t) = map.index(tc, tr)
-            && t != robot
+        let Some(robot) = map.index(rc, rr) else {
+            return Guidance::default();
+        };
+        let kept_target = kept.and_then(|g| {
+            let (tc, tr) = g.target?;
+            map.index(tc, tr)
+                .filter(|&t| t != robot && map.cells[t].is_of_interest())
+        });
+        self.search(map, robot, kept_target);
+        if let (Some(g), Some(t)) = (kept, kept_target)
             && self.target_distance(map, t).is_some()
         {
             return Guidance {
@@ -396,28 +426,33 @@ impl Explorer {
                 ..g
             };
         }
-        let utility = self.utilities(rc, rr);
-        // Best target per region: (ω·λ·δ, −path distance), then the lowest index.
+        // (The search stopped early only when it reached the kept target: it is complete.)
+        // One pass over the cells of interest: eq. 7 per region and the best target per
+        // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
+        let mut utility = [0.0; 4];
         let mut best: [Option<(f64, u32, usize)>; 4] = [None; 4];
-        for (i, &cell) in map.cells.iter().enumerate() {
-            if !cell.is_of_interest() || i == robot {
-                continue;
-            }
-            let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
-            let Some(d) = self.target_distance(map, i) else {
-                continue;
-            };
-            let (dx, dy) = (col - rc, row - rr);
-            let Some(region) = region_of(dx, dy) else {
-                continue;
-            };
-            let value = self.omega_lambda[i]
-                * self
-                    .weights
-                    .travel_coefficient(f64::from(dx * dx + dy * dy));
-            let slot = &mut best[region.index()];
-            if slot.is_none_or(|(v, bd, _)| value > v || (value == v && d < bd)) {
-                *slot = Some((value, d, i));
+        let cols = self.cols as usize;
+        let last = self.delta.len() - 1;
+        for (row, cells) in self.omega_lambda.chunks_exact(cols).enumerate() {
+            let dy = row as i32 - rr;
+            for (col, &ol) in cells.iter().enumerate() {
+                if ol == 0.0 {
+                    continue;
+                }
+                let i = row * cols + col;
+                let dx = col as i32 - rc;
+                let Some(region) = region_of(dx, dy) else {
+                    continue;
+                };
+                let d = self.target_distance(map, i);
+                let delta = d.map_or(1.0, |d| self.delta[(d as usize).min(last)]);
+                let value = ol * delta;
+                utility[region.index()] += value;
+                let Some(d) = d else { continue };
+                let slot = &mut best[region.index()];
+                if slot.is_none_or(|(v, bd, _)| d < bd || (d == bd && value > v)) {
+                    *slot = Some((value, d, i));
+                }
             }
         }
         let chosen = Direction::ALL
@@ -446,7 +481,7 @@ impl Explorer {
 
     /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
     /// that path's length; `None` when no such cell is reachable. Uses the distances of the
-    /// last [`Explorer::guide`] (call it first).
+    /// last [`Explorer::search_all`] (call it first).
     pub fn toward_victim(
         &self,
         map: &CellMap,
@@ -456,7 +491,7 @@ impl Explorer {
         vr: i32,
     ) -> Option<(Direction, u32)> {
         let robot = map.index(rc, rr)?;
-        let (stand, face) = self.stand_for(map, vc, vr)?;
+        let (stand, face) = self.stand_for(map.index(vc, vr)?)?;
         let d = self.distance[stand];
         Some((self.step_toward(stand, robot).unwrap_or(face), d))
     }

@@ -38,9 +38,15 @@
 //!
 //! **Termination.** Root: the robot exits. NUR: a victim becomes pending. VI: no victim is
 //! pending, or the one at hand is uncertain (HC₂'s turn). HC₂: the uncertain victim is decided.
-//! NG: stuck, nothing to head for, a victim at hand — or, since it started, the robot entered a
-//! new cell or classified one (exploration progress) or switched between exploring and
-//! approaching a victim. HC₃: the robot is no longer stuck (an operator command took effect).
+//! NG: stuck, nothing to head for, a victim at hand — or, since it started, the robot moved to
+//! another cell, classified one (exploration progress) or switched between exploring and
+//! approaching a victim; it ends with the pseudo-reward [`NG_ON_COURSE`] when that last step
+//! kept to the desired heading. HC₃: the robot is no longer stuck (an operator command took
+//! effect).
+//!
+//! **Preconditions.** Exit USAR Scene is available only when no cell of interest the robot
+//! can reach or face remains (§IV-A-2: Exit "triggers the end of exploration"); NUR then has
+//! nothing else to do.
 
 use crate::state::{RescueState, VictimStatus};
 use usar_maxq::{Hierarchy, Node, NodeId, NodeKind};
@@ -73,6 +79,12 @@ pub mod action {
 
 /// Size of the NG abstraction: 4⁴ neighbour categories × 4 relative headings × 2 modes.
 pub const NG_STATES: usize = 256 * 4 * 2;
+
+/// NG's pseudo-reward R̃ when it ends on course (the robot moved one cell along the desired
+/// heading, or made exploration progress): Table I's "moving in the desired exploration
+/// direction" (+15), given for every step along D_E's path, also through visited cells. It
+/// only shapes NG's own choices (C̃); the parents see the real rewards.
+pub const NG_ON_COURSE: f64 = 15.0;
 
 /// Paper 000's hierarchy.
 #[derive(Clone, Debug)]
@@ -166,8 +178,23 @@ impl Hierarchy<RescueState> for RescueHierarchy {
         }
     }
 
+    fn available(&self, node: NodeId, s: &RescueState) -> bool {
+        node != EXIT || !s.targets_remain()
+    }
+
     fn ended_since(&self, node: NodeId, start: &RescueState, now: &RescueState) -> bool {
-        node == NG && (now.progress != start.progress || now.victim_mode() != start.victim_mode())
+        node == NG
+            && (now.progress != start.progress
+                || now.cell != start.cell
+                || now.victim_mode() != start.victim_mode())
+    }
+
+    fn pseudo_reward(&self, node: NodeId, s: &RescueState) -> f64 {
+        if node == NG && s.on_course() {
+            NG_ON_COURSE
+        } else {
+            0.0
+        }
     }
 
     fn apprentice(&self, node: NodeId) -> Option<NodeId> {

@@ -11,8 +11,9 @@
 //! - the **thermal camera** gives heat regions with h (human band) and size s; the victim
 //!   probability is [`victim_probability`].
 //!
-//! A reading depends only on (cell, heading): it is taken once per scene, the first time the
-//! robot stands there (noise from the scene's perception stream), and cached.
+//! A reading depends only on (cell, heading): it is taken once per run, the first time the
+//! robot stands there (noise from the run's perception stream), and cached; or all at once
+//! beforehand ([`Perception::sense_all`]).
 
 use crate::exploration::Direction;
 use rand::SeedableRng;
@@ -46,9 +47,16 @@ pub const DISMISS_THRESHOLD: f64 = 0.3;
 /// Fewer points of D_xy than this inside the cell ahead read as a drop.
 const MIN_POINTS: u32 = 6;
 
-/// A cell returning fewer than this share of the points a level floor would return is hidden
-/// behind a face and non-climbable.
-const OCCLUDED_SHARE: f64 = 0.6;
+/// A level cell returning fewer than this share of the points a level floor at the robot's own
+/// height would return is hidden behind a face and non-climbable. On the rubble arenas a
+/// partly hidden open floor returns ≥ 0.44 of them, a floor seen past a slab ≤ 0.3.
+const OCCLUDED_SHARE: f64 = 0.4;
+
+/// How far below `climbable_max_height_m` the visible top of a pile must stay for the cell to
+/// read as climbable. On the rubble arenas the visible tops of climbable cells reach 0.28 m
+/// and those of non-climbable cells start at 0.30 m (the rest of the pile hides behind its
+/// near face), against the 0.35 m limit.
+const VISIBLE_TOP_MARGIN_M: f64 = 0.06;
 
 /// One heat region seen from a (cell, heading).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,6 +84,7 @@ struct Reading {
 pub const INFRARED_NEIGHBOURS: [(i32, i32); 5] = [(0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1)];
 
 /// Sensors and the per-scene cache of their readings.
+#[derive(Clone)]
 pub struct Perception {
     world: SensingWorld,
     depth: DepthSpec,
@@ -107,6 +116,21 @@ impl Perception {
             readings: vec![None; view.classes.len() * 4],
             heat: Vec::new(),
             rng: Pcg64Mcg::seed_from_u64(seed),
+        }
+    }
+
+    /// Takes the reading of every cell a robot can stand on (passable terrain) and every
+    /// heading now, in a fixed order, so that a run reads only the cache. Training prepares
+    /// its scenes this way, in parallel and ahead of the (sequential) learning.
+    pub fn sense_all(&mut self, scene: &Scene, view: &CellView) {
+        for (i, class) in view.terrain_classes.iter().enumerate() {
+            if !class.is_passable_terrain(true) {
+                continue;
+            }
+            let cell = view.geometry.cell_of_index(i);
+            for heading in Direction::ALL {
+                self.reading(scene, view, cell, heading);
+            }
         }
     }
 
@@ -217,7 +241,7 @@ impl Perception {
         }
     }
 
-    /// How many beams of `image` would meet a level floor at the reference height inside
+    /// How many beams of `image` would meet a level floor at height `floor_m` (the robot's own) inside
     /// `rect` (shrunk by `margin`) within the sensor's range.
     fn expected_floor_points(
         &self,
@@ -225,8 +249,9 @@ impl Perception {
         pose: Pose2,
         rect: usar_world::Rect,
         margin: f64,
+        floor_m: f64,
     ) -> u32 {
-        let drop = image.sensor_z_m - self.reference_floor_m;
+        let drop = image.sensor_z_m - floor_m;
         if drop <= 0.0 {
             return 0;
         }
@@ -303,13 +328,22 @@ impl Perception {
             return CellClass::Drop;
         }
         let deviation = (highest - reference).max(reference - lowest);
-        // Beams that a level floor would return from inside the cell; far fewer returns mean
-        // that a face (a slab, a steep pile) stopped the beams before the cell's floor.
-        let expected = self.expected_floor_points(&image, pose, rect, margin);
-        if f64::from(fit.points) < OCCLUDED_SHARE * expected as f64 {
+        // D_xy sees the near part of a pile; its far part and top may hide behind the near
+        // face. A visible top within `VISIBLE_TOP_MARGIN_M` of the climbable limit is read as
+        // non-climbable.
+        if deviation > p.climbable_max_height_m - VISIBLE_TOP_MARGIN_M {
             return CellClass::NonClimbable;
         }
-
+        // Beams that a level floor would return from inside the cell. Far fewer returns from
+        // a level surface mean that a face (a slab, a steep pile) stopped the beams before the
+        // cell's floor: the floor seen is a sliver, and the cell is non-climbable. Rubble that
+        // is low enough to climb shadows part of its own cell, so it is classified by its fit.
+        let expected = self.expected_floor_points(&image, pose, rect, margin, floor_m);
+        if deviation <= p.open_max_height_m
+            && f64::from(fit.points) < OCCLUDED_SHARE * expected as f64
+        {
+            return CellClass::NonClimbable;
+        }
         p.terrain_class(fit.slope_rad, fit.roughness_m, deviation)
     }
 }

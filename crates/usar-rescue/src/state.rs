@@ -20,6 +20,7 @@ const TARGETS: u8 = 2;
 const DONE: u8 = 4;
 const HEADING: u8 = 8;
 const VICTIM_MODE: u8 = 16;
+const ON_COURSE: u8 = 32;
 
 /// See the [module documentation](self).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -35,9 +36,12 @@ pub struct RescueState {
     /// Counts exploration progress (cells entered or classified for the first time, victims
     /// reached or decided); NG ends when it changes.
     pub progress: u32,
-    /// The robot's cell (row-major index) and heading, for the flat learner only.
+    /// The robot's cell (row-major index) and heading.
     pub cell: u16,
     pub heading: u8,
+    /// The flat learner's key: the whole unabstracted state (see
+    /// [`crate::RescueDomain::state`]).
+    pub flat: u64,
 }
 
 impl RescueState {
@@ -72,7 +76,14 @@ impl RescueState {
             progress,
             cell,
             heading,
+            flat: 0,
         }
+    }
+
+    /// Sets the flat learner's key.
+    pub fn with_flat_key(mut self, key: u64) -> Self {
+        self.flat = key;
+        self
     }
 
     pub fn stuck(&self) -> bool {
@@ -89,6 +100,17 @@ impl RescueState {
     pub fn has_heading(&self) -> bool {
         self.flags & HEADING != 0
     }
+    /// Marks that the last primitive kept the robot on course: it moved one cell along the
+    /// desired heading or made exploration progress (NG's pseudo-reward).
+    pub fn with_on_course(mut self, on_course: bool) -> Self {
+        if on_course {
+            self.flags |= ON_COURSE;
+        }
+        self
+    }
+    pub fn on_course(&self) -> bool {
+        self.flags & ON_COURSE != 0
+    }
     pub fn victim_mode(&self) -> bool {
         self.flags & VICTIM_MODE != 0
     }
@@ -101,13 +123,8 @@ impl RescueState {
         }
     }
 
-    /// The flat learner's key: the robot's cell and heading with every feature of the
-    /// hierarchy's state variables (paper: "the same state parameters").
+    /// The flat learner's key: the whole unabstracted state.
     pub fn flat_key(&self) -> u64 {
-        (u64::from(self.cell) << 24)
-            | (u64::from(self.heading) << 22)
-            | (u64::from(self.ng) << 8)
-            | (u64::from(self.victim) << 4)
-            | u64::from(self.flags & (STUCK | TARGETS))
+        self.flat
     }
 }

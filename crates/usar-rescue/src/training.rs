@@ -7,6 +7,7 @@ use crate::domain::{DomainConfig, RescueDomain, RescueScene};
 use crate::exploration::ExplorationWeights;
 use crate::hierarchy::{RescueHierarchy, action};
 use crate::operator::{OperatorProfile, SimulatedOperator};
+use crate::perception::Perception;
 use crate::state::RescueState;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -105,6 +106,26 @@ pub fn training_scene(seed: u64, t: u32) -> (RescueScene, (usar_world::Cell, u8)
     (scene, start)
 }
 
+/// A training trial prepared ahead of learning: its scene, start and sensors with every
+/// reading taken ([`Perception::sense_all`]).
+pub struct PreparedTrial {
+    pub scene: RescueScene,
+    pub start: (usar_world::Cell, u8),
+    pub perception: Perception,
+}
+
+/// Trial `t` of a training run from `seed`, prepared (a pure function of both).
+pub fn prepare_trial(seed: u64, t: u32) -> PreparedTrial {
+    let (scene, start) = training_scene(seed, t);
+    let mut perception = RescueDomain::<SimulatedOperator>::perception(&scene, start, trial_seed(seed, t));
+    perception.sense_all(&scene.scene, &scene.view);
+    PreparedTrial {
+        scene,
+        start,
+        perception,
+    }
+}
+
 /// A fresh learner for the USAR hierarchy.
 pub fn new_learner(params: &LearningParams) -> MaxqQ {
     MaxqQ::new(RescueHierarchy::new().nodes().to_vec(), params.clone())
@@ -131,11 +152,16 @@ impl Domain for FlatDomain<'_, '_> {
     fn is_terminal(&self, s: &RescueState) -> bool {
         s.done()
     }
+    /// The same precondition as the hierarchy's: Exit only when nothing is left to explore.
+    fn available(&self, s: &RescueState, a: usize) -> bool {
+        FLAT_ACTIONS[a] != action::EXIT || !s.targets_remain()
+    }
 }
 
 /// Trains MAXQ-Q (and flat Q) over `config.trials` scenes; `progress(trials_done)` after each.
-/// Scenes are generated in parallel batches ahead of the learners (each is a pure function of
-/// its seed); learning itself is sequential, so the result is independent of the thread count.
+/// Trials (scene, start, sensor readings) are prepared in parallel batches ahead of the
+/// learners (each is a pure function of its seed); learning itself is sequential, so the
+/// result is independent of the thread count.
 pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, TrainReport) {
     let h = RescueHierarchy::new();
     let mut maxq = new_learner(&config.params);
@@ -147,22 +173,24 @@ pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, Tra
     let mut t0 = 0;
     while t0 < config.trials {
         let t1 = (t0 + BATCH).min(config.trials);
-        let scenes: Vec<_> = (t0..t1)
+        let trials: Vec<_> = (t0..t1)
             .into_par_iter()
-            .map(|t| training_scene(config.seed, t))
+            .map(|t| prepare_trial(config.seed, t))
             .collect();
-        for (t, (scene, start)) in (t0..t1).zip(&scenes) {
+        for (t, trial) in (t0..t1).zip(&trials) {
+            let (scene, start) = (&trial.scene, &trial.start);
             let s = trial_seed(config.seed, t);
             // Both learners meet the same trial: scene, start, operator and noise.
             let new_domain = || {
                 let operator = SimulatedOperator::new(config.operator.clone(), s ^ 0x0DE);
-                RescueDomain::new(
+                RescueDomain::with_perception(
                     scene,
                     *start,
                     config.weights.clone(),
                     config.domain.clone(),
                     operator,
                     s,
+                    trial.perception.clone(),
                 )
             };
             let mut domain = new_domain();
