@@ -134,6 +134,62 @@ pub fn wall_following(
     target_approach(Point2::new(look_ahead_m, s), gains)
 }
 
+/// Step between the headings tried by [`free_heading`].
+const FREE_HEADING_STEP_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// How far the lane of half width `half_width_m` along `heading_rad` (robot frame) is open:
+/// the smallest p·u over the laser points `p` with |p × u| < `half_width_m` and p·u > 0, or
+/// the laser's maximum range.
+pub fn lane_length(scan: &ScanView, heading_rad: f64, half_width_m: f64) -> f64 {
+    let (s, c) = heading_rad.sin_cos();
+    scan.points
+        .iter()
+        .filter(|p| (p.x * s - p.y * c).abs() < half_width_m)
+        .map(|p| p.x * c + p.y * s)
+        .filter(|&along| along > 0.0)
+        .fold(scan.max_range_m, f64::min)
+}
+
+/// Obstacle avoidance on a return route — an addition to §IV, whose behaviours all start from
+/// an un-searched link: a robot driving back along a searched link aims at points of the path
+/// it drove, but its pose estimate has drifted since, so on a cluttered floor the straight
+/// line to the next point can run into a chair or a desk leg the link's path passed beside.
+///
+/// Of the headings within `max_deviation_rad` of `goal_rad` (robot frame), every
+/// [`FREE_HEADING_STEP_RAD`], the one nearest the goal whose lane is clear: no laser point
+/// `p` with 0 < p·u < `reach_m` and |p × u| < `half_width_m` (u the heading's unit vector) —
+/// the vector-field-histogram idea reduced to one lane per heading. Between two headings
+/// equally far from the goal, the one whose lane is open further wins (then the left one).
+/// `None` when every lane is blocked.
+pub fn free_heading(
+    scan: &ScanView,
+    goal_rad: f64,
+    half_width_m: f64,
+    reach_m: f64,
+    max_deviation_rad: f64,
+) -> Option<f64> {
+    let lane_open = |a: f64| lane_length(scan, a, half_width_m);
+    let steps = (max_deviation_rad / FREE_HEADING_STEP_RAD).floor() as i32;
+    for k in 0..=steps {
+        let candidates = if k == 0 {
+            [Some(goal_rad), None]
+        } else {
+            let d = f64::from(k) * FREE_HEADING_STEP_RAD;
+            [Some(goal_rad - d), Some(goal_rad + d)]
+        };
+        let best = candidates
+            .into_iter()
+            .flatten()
+            .map(|a| (lane_open(a), a))
+            .filter(|(open, _)| *open >= reach_m)
+            .max_by(|x, y| x.0.total_cmp(&y.0));
+        if let Some((_, a)) = best {
+            return Some(a);
+        }
+    }
+    None
+}
+
 /// What Fig. 8 chooses from, during exploration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModeInputs {
@@ -195,6 +251,36 @@ mod tests {
         let v = central_run(off_left, 1.0, GAINS);
         // S = (0.4 − 1.2) / 2 = −0.4: turn right.
         assert!((v.angular_radps - 1.5 * (-0.4f64).atan()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn free_heading_steers_round_an_obstacle_on_the_way() {
+        // A post 0.1 m wide 0.8 m straight ahead, the goal straight ahead beyond it.
+        let mut points = Vec::new();
+        for i in 0..5 {
+            points.push(Point2::new(0.8, -0.05 + 0.025 * f64::from(i)));
+        }
+        let scan = ScanView {
+            points,
+            max_range_m: 20.0,
+            ..ScanView::default()
+        };
+        assert_eq!(free_heading(&scan, 0.0, 0.25, 0.5, 1.5), Some(0.0));
+        let a = free_heading(&scan, 0.0, 0.25, 1.2, 1.5).unwrap();
+        assert!(a.abs() > 0.2 && a.abs() < 0.6, "{a}");
+        // Walled in on every side within reach: no heading.
+        let ring: Vec<Point2> = (0..72)
+            .map(|i| {
+                let t = f64::from(i) * 5f64.to_radians();
+                Point2::new(0.6 * t.cos(), 0.6 * t.sin())
+            })
+            .collect();
+        let closed = ScanView {
+            points: ring,
+            max_range_m: 20.0,
+            ..ScanView::default()
+        };
+        assert_eq!(free_heading(&closed, 0.0, 0.25, 1.0, 3.2), None);
     }
 
     #[test]

@@ -10,6 +10,17 @@ pub(super) const RECENT_FLOOR_M: f64 = 0.3;
 /// Less obstacle than this seen from level floor makes no node, metres.
 const OBSTACLE_MIN_LENGTH_M: f64 = 0.1;
 
+/// Whether the horizontal laser has a return where a raised tilted-laser return `hit` lies:
+/// within one beam of its bearing and no further than its distance plus `margin_m`.
+fn seen_by_horizontal_laser(view: &ScanView, hit: &FloorHit, margin_m: f64) -> bool {
+    if hit.height_m <= 0.0 {
+        return false;
+    }
+    let bearing = hit.lateral_m.atan2(hit.forward_m);
+    let range = hit.forward_m.hypot(hit.lateral_m);
+    view.min_range_near(bearing, 1.5 * view.angle_increment_rad) <= range + margin_m
+}
+
 /// The obstacle shape of paper 004's node table.
 fn obstacle_subtype(stairs: bool) -> &'static str {
     if stairs {
@@ -59,9 +70,23 @@ pub(super) struct Crossing {
 impl Explorer<'_> {
     /// The obstacle ahead on the robot's track, if the tilted laser sees one that is not a
     /// wall: the height and distance of its return.
+    ///
+    /// A raised return that the horizontal laser also sees at the same place (same bearing,
+    /// within `obstacle_wall_margin_m` of its range) is the side of a wall or of furniture
+    /// standing from the floor past the horizontal scan plane, not a slope or a stair: it is
+    /// left out before the median of the track is taken. (Checking only straight ahead let a
+    /// chair leg off the axis but under the track read as stairs on a flat floor.)
     fn obstacle_ahead(&self) -> Option<FloorHit> {
         let half = self.spec.width_m / 2.0;
-        let s = track_sample(&self.hits, half)?;
+        let view = &self.view;
+        let margin = self.cfg.obstacle_wall_margin_m;
+        let floor: Vec<FloorHit> = self
+            .hits
+            .iter()
+            .filter(|h| !seen_by_horizontal_laser(view, h, margin))
+            .copied()
+            .collect();
+        let s = track_sample(&floor, half)?;
         if s.height_m.abs() <= self.cfg.obstacle_detect_height_m {
             return None;
         }

@@ -22,8 +22,8 @@ use super::{
     TrajectorySample, count_nodes,
 };
 use crate::locomotion::{
-    Gains, ModeInputs, RunMode, central_run, dead_end_turn, select_run_mode, side_distance,
-    target_approach, wall_following,
+    Gains, ModeInputs, RunMode, central_run, dead_end_turn, free_heading, lane_length,
+    select_run_mode, side_distance, target_approach, wall_following,
 };
 use crate::model::{kind, subtype};
 use crate::store::BtmStore;
@@ -43,6 +43,19 @@ const CANDIDATE_TRACK_M: f64 = 1.0;
 const ENTRY_LOOKBACK_M: f64 = 1.0;
 /// Look-ahead along a known link's path when driving back.
 const PATH_LOOK_AHEAD_M: f64 = 0.6;
+/// Obstacle avoidance on a return route ([`free_heading`]): the lane checked reaches to the
+/// route point or this far, whichever is nearer, but at least [`AVOID_MIN_REACH_M`] ...
+const AVOID_REACH_M: f64 = 1.0;
+const AVOID_MIN_REACH_M: f64 = 0.5;
+/// ... is wider than the robot by this on each side ...
+const AVOID_SIDE_CLEARANCE_M: f64 = 0.05;
+/// ... and may leave the direction of the route point by up to this.
+const AVOID_MAX_DEVIATION_RAD: f64 = 100.0 * PI / 180.0;
+/// Times a robot stuck on its way back plans again from the node nearest to it before it
+/// gives the goal's un-searched links up.
+const RETURN_REPLANS: u32 = 2;
+/// Route stretch searched for the point nearest the robot after a detour, metres.
+const RESUME_WINDOW_M: f64 = 2.0;
 /// Speed of the robot's reverse moves, m/s.
 const BACKOFF_SPEED_MPS: f64 = 0.2;
 /// Steps in contact after which the robot backs up a little (a scraped corner).
@@ -107,6 +120,8 @@ struct Route {
     waypoints: Vec<Point2>,
     index: usize,
     goal: u32,
+    /// The detour heading (world frame) being followed round an obstacle on the way.
+    detour_rad: Option<f64>,
 }
 
 pub(super) struct Explorer<'a> {
@@ -131,6 +146,8 @@ pub(super) struct Explorer<'a> {
     /// Commands played before the next decision (recovery after contact, stall escapes).
     manoeuvre: std::collections::VecDeque<Velocity>,
     stall: StallWatch,
+    /// Routes planned again from the nearest node since a node was last reached.
+    replans: u32,
     /// Circumcentres that turned out to be plain passage.
     ignored: Vec<Point2>,
     /// Tilted-laser returns on the track over the last stretch driven (distance driven,
@@ -191,6 +208,7 @@ impl<'a> Explorer<'a> {
             contact_steps: 0,
             manoeuvre: std::collections::VecDeque::new(),
             stall: StallWatch::new(start, 0.0, cfg.dt_s),
+            replans: 0,
             ignored: Vec::new(),
             recent_floor: std::collections::VecDeque::new(),
         })
@@ -397,6 +415,7 @@ impl<'a> Explorer<'a> {
     /// drives back towards the nearest node that has one.
     fn continue_from(&mut self, node: u32, entry_rad: f64) -> Result<(), BuildError> {
         self.node = node;
+        self.replans = 0;
         let next = open_links(&self.map.btm, node)
             .map(|l| {
                 let mut turn = (l.direction_rad - entry_rad).rem_euclid(TAU);
@@ -448,6 +467,7 @@ impl<'a> Explorer<'a> {
             waypoints,
             index: 0,
             goal,
+            detour_rad: None,
         });
         Ok(())
     }
@@ -455,7 +475,18 @@ impl<'a> Explorer<'a> {
     /// After repeated stalls: the link being explored, or every un-searched link of the node
     /// the robot could not drive back to, is marked [`BLOCKED_FOR`] this robot (it stays
     /// un-searched) and exploration goes on from the last node.
+    ///
+    /// A robot that could not drive back to a node first drives to the node nearest to it
+    /// and plans again from there ([`Explorer::replan_from_nearest`]), up to
+    /// [`RETURN_REPLANS`] times before it reaches any node: the place it is stuck at lies on
+    /// its way, and says nothing about the un-searched links at the goal.
     fn give_up(&mut self, target: Target) -> Result<(), BuildError> {
+        if let Target::Node(_) = target
+            && self.replans < RETURN_REPLANS
+        {
+            self.replans += 1;
+            return self.replan_from_nearest();
+        }
         let blocked: Vec<u32> = match target {
             Target::Link(link) => vec![link],
             Target::Node(node) => open_links(&self.map.btm, node).map(|l| l.id).collect(),
@@ -474,6 +505,39 @@ impl<'a> Explorer<'a> {
         if let State::Return(route) = &mut self.state {
             back.append(&mut route.waypoints);
             route.waypoints = back;
+        }
+        Ok(())
+    }
+
+    /// Drives to the node nearest the robot's estimated position (one it may drive through),
+    /// then on by the shortest chain of searched links to a node with an un-searched link.
+    fn replan_from_nearest(&mut self) -> Result<(), BuildError> {
+        let here = self.pose().position();
+        let nearest = self
+            .map
+            .btm
+            .nodes
+            .iter()
+            .filter(|n| !n.extra.contains_key(IMPASSABLE_FOR))
+            .map(|n| (Point2::new(n.x_m, n.y_m).distance(here), n.id))
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let Some((_, node)) = nearest else {
+            return self.plan_return(self.node);
+        };
+        let at = self.node_position(node);
+        self.node = node;
+        self.plan_return(node)?;
+        match &mut self.state {
+            State::Return(route) => route.waypoints.insert(0, at),
+            State::Explore(_) => {
+                self.state = State::Return(Route {
+                    waypoints: vec![at],
+                    index: 0,
+                    goal: node,
+                    detour_rad: None,
+                });
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -578,10 +642,7 @@ impl<'a> Explorer<'a> {
         let pose = self.pose();
         let here = pose.position();
         let last = route.waypoints.len() - 1;
-        while route.index < last && here.distance(route.waypoints[route.index]) < PATH_LOOK_AHEAD_M
-        {
-            route.index += 1;
-        }
+        Self::advance_route(&mut route, here);
         let goal = route.waypoints[last];
         if route.index == last && here.distance(goal) < self.cfg.arrival_radius_m + 0.15 {
             // The direction back along the route from the goal.
@@ -595,12 +656,87 @@ impl<'a> Explorer<'a> {
             return Ok(Velocity::default());
         }
         let mut gains = self.gains();
-        if self.inclination_rad > self.cfg.level_attitude_rad {
+        let target = pose.to_body(route.waypoints[route.index]);
+        let v = if self.inclination_rad > self.cfg.level_attitude_rad {
+            // On a slope or stairs the horizontal laser sees the obstacle's own floor.
             gains.speed_mps *= self.cfg.obstacle_speed_factor;
-        }
-        let v = target_approach(pose.to_body(route.waypoints[route.index]), gains);
+            target_approach(target, gains)
+        } else {
+            let world_heading = |a: f64| normalize_angle(a + pose.theta);
+            let (v, detour) = self.avoiding_approach(
+                target,
+                route.detour_rad.map(|h| normalize_angle(h - pose.theta)),
+                gains,
+            );
+            route.detour_rad = detour.map(world_heading);
+            v
+        };
         self.state = State::Return(route);
         Ok(v)
+    }
+
+    /// Target approach towards `target` (robot frame) when its lane is clear; otherwise along
+    /// the detour heading `detour` (robot frame) kept from earlier steps while its lane stays
+    /// clear (so that the robot does not dither between lanes as its view turns), or the clear
+    /// lane nearest to the target ([`free_heading`]); on the spot towards the more open side
+    /// when no lane is clear. Returns the command and the detour heading now followed.
+    fn avoiding_approach(
+        &self,
+        target: Point2,
+        detour: Option<f64>,
+        gains: Gains,
+    ) -> (Velocity, Option<f64>) {
+        let goal = target.y.atan2(target.x);
+        let reach = target
+            .x
+            .hypot(target.y)
+            .clamp(AVOID_MIN_REACH_M, AVOID_REACH_M);
+        let half = self.spec.width_m / 2.0 + AVOID_SIDE_CLEARANCE_M;
+        if lane_length(&self.view, goal, half) >= reach {
+            return (target_approach(target, gains), None);
+        }
+        let heading = detour
+            .filter(|&h| lane_length(&self.view, h, half) >= AVOID_MIN_REACH_M)
+            .or_else(|| free_heading(&self.view, goal, half, reach, AVOID_MAX_DEVIATION_RAD));
+        let v = match heading {
+            Some(a) => target_approach(Point2::new(a.cos(), a.sin()), gains),
+            None => {
+                let open = self.view.side_clearance(-self.spec.length_m / 2.0, reach);
+                let turn = dead_end_turn(gains);
+                if open.right_m > open.left_m {
+                    Velocity {
+                        angular_radps: -turn.angular_radps,
+                        ..turn
+                    }
+                } else {
+                    turn
+                }
+            }
+        };
+        (v, heading)
+    }
+
+    /// After a detour: the route resumes at its point nearest the robot among the next
+    /// [`RESUME_WINDOW_M`] of it, then looks [`PATH_LOOK_AHEAD_M`] ahead.
+    fn advance_route(route: &mut Route, here: Point2) {
+        let last = route.waypoints.len() - 1;
+        let mut best = (here.distance(route.waypoints[route.index]), route.index);
+        let mut along = 0.0;
+        for i in route.index + 1..=last {
+            along += route.waypoints[i - 1].distance(route.waypoints[i]);
+            if along > RESUME_WINDOW_M {
+                break;
+            }
+            let d = here.distance(route.waypoints[i]);
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        route.index = best.1;
+        while route.index < last && here.distance(route.waypoints[route.index]) < PATH_LOOK_AHEAD_M
+        {
+            route.index += 1;
+        }
     }
 
     fn explore(&mut self, mut ex: Exploration) -> Result<Velocity, BuildError> {

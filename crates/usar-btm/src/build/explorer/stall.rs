@@ -1,5 +1,6 @@
-//! The stall watchdog: a robot that has neither moved nor turned for a while is wedged (a
-//! doorway met at an angle, clutter on a real floor). It first tries escape manoeuvres; when
+//! The stall watchdog: a robot that has not moved for a while is wedged (a doorway met at an
+//! angle, clutter on a real floor). Turning on the spot is not progress: a robot wedged
+//! between chairs turns back and forth for ever. It first tries escape manoeuvres; when
 //! it stalls again on the same target it gives that target up, so that exploration always
 //! ends. Paper 004 leaves such places to the operator (Table I's "operator intervention"
 //! note); a robot on its own marks them [`crate::build::BLOCKED_FOR`] itself.
@@ -10,8 +11,6 @@ use usar_world::Pose2;
 
 /// A robot that moved less than this …
 const STALL_DISTANCE_M: f64 = 0.2;
-/// … and turned less than this …
-const STALL_TURN_RAD: f64 = 1.0;
 /// … for this long is stalled.
 const STALL_AFTER_S: f64 = 20.0;
 /// Escapes tried on one target before it is given up.
@@ -74,10 +73,7 @@ impl StallWatch {
             self.escapes = 0;
             self.reset(pose, time_s);
         }
-        let turned = (pose.theta - self.anchor.theta + PI).rem_euclid(2.0 * PI) - PI;
-        if pose.position().distance(self.anchor.position()) > STALL_DISTANCE_M
-            || turned.abs() > STALL_TURN_RAD
-        {
+        if pose.position().distance(self.anchor.position()) > STALL_DISTANCE_M {
             self.reset(pose, time_s);
             return None;
         }
