@@ -27,5 +27,5 @@ pub mod semantic_map;
 pub mod team_size;
 
 pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
-pub use self::mission::{MissionError, TeamMission};
+pub use self::mission::{MissionError, MissionHook, TeamMission};
 pub use self::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
