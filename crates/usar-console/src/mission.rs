@@ -15,7 +15,7 @@ use crate::clock::MissionClock;
 use crate::config::MissionConfig;
 use crate::operator::run_rescue_robot;
 use crate::protocol::ClientMessage;
-use crate::scene_setup::{default_scene, starting_at, with_zones};
+use crate::scene_setup::{default_scene, starting_at, with_team_starts, with_zones};
 use crate::snapshot::{BtmLinkView, BtmNodeView, HandOffView};
 use crate::team_hook::{ConsoleHook, strategy};
 use std::collections::BTreeMap;
@@ -282,21 +282,8 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
         ..Exploration::default()
     };
     let team_config = TeamConfig::paper_002(config.team_robots, config.minutes, exploration);
-    // The team starts from the scene's start poses after the MAXQ robot's, in turn from each
-    // offset until every robot fits (a wheeled robot does not fit on every rubble start).
-    let poses = scene.start_poses.len().max(1);
-    let mut team = Err(usar_team::MissionError::Config("no start pose".into()));
-    for k in (1..=poses).map(|k| k % poses) {
-        team = TeamMission::new(
-            Arc::new(starting_at(&scene, k)),
-            team_config.clone(),
-            config.seed,
-        );
-        if !matches!(team, Err(usar_team::MissionError::Placement(_))) {
-            break;
-        }
-    }
-    let team = team?;
+    let team_scene = Arc::new(with_team_starts(&scene, &team_config));
+    let team = TeamMission::new(team_scene, team_config, config.seed)?;
 
     let (frame_tx, _) = watch::channel(Arc::<str>::from("{}"));
     let (map_tx, _) = watch::channel(Arc::<str>::from("{}"));

@@ -3,7 +3,10 @@
 //! their floor area as the generators label rooms.
 
 use usar_world::generate::{RubbleParams, generate_rubble};
-use usar_world::{Grid, Room, RoomId, RoomLabel, RoomSizeThresholds, Scene};
+use std::sync::Arc;
+use usar_sim::Simulation;
+use usar_team::TeamConfig;
+use usar_world::{Grid, Pose2, Room, RoomId, RoomLabel, RoomSizeThresholds, Scene};
 
 /// The default scene: a rubble floor of paper 000 §VI (20 × 20 cells, victims, heat sources).
 pub fn default_scene(seed: u64) -> Scene {
@@ -65,4 +68,57 @@ pub fn label_code(label: Option<RoomLabel>) -> u8 {
         Some(RoomLabel::MediumRoom) => 3,
         Some(RoomLabel::BigRoom) => 4,
     }
+}
+
+/// The scene with start poses for the team: those of the scene its robot fits on (the MAXQ
+/// robot's, the first, last), then, if the team is larger, free poses on a 1 m lattice nearest
+/// to the first start.
+pub fn with_team_starts(scene: &Scene, config: &TeamConfig) -> Scene {
+    let shared = Arc::new(scene.clone());
+    let fits = |pose: Pose2| {
+        let mut sim = Simulation::new(shared.clone(), config.sim.clone(), 0);
+        sim.add_robot(config.robot.clone(), pose).is_ok()
+    };
+    let mut poses: Vec<Pose2> = scene
+        .start_poses
+        .iter()
+        .skip(1)
+        .chain(scene.start_poses.first())
+        .copied()
+        .filter(|&p| fits(p))
+        .collect();
+    if poses.len() < config.robots {
+        let g = scene.geometry();
+        let (w, h) = g.extent_m();
+        let anchor = scene
+            .start_poses
+            .first()
+            .map_or(g.origin, |p| p.position());
+        let mut lattice = Vec::new();
+        let mut y = g.origin.y + 0.5;
+        while y < g.origin.y + h {
+            let mut x = g.origin.x + 0.5;
+            while x < g.origin.x + w {
+                lattice.push(Pose2::new(x, y, 0.0));
+                x += 1.0;
+            }
+            y += 1.0;
+        }
+        lattice.sort_by(|a, b| {
+            a.position()
+                .distance(anchor)
+                .total_cmp(&b.position().distance(anchor))
+        });
+        for p in lattice {
+            if poses.len() >= config.robots {
+                break;
+            }
+            if poses.iter().all(|q| q.position().distance(p.position()) > 0.9) && fits(p) {
+                poses.push(p);
+            }
+        }
+    }
+    let mut s = scene.clone();
+    s.start_poses = poses;
+    s
 }

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 use usar_console::MissionConfig;
+use usar_world::generate::{RubbleParams, generate_rubble};
 
 const CHROMIUM: &str = "/usr/bin/chromium";
 const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
@@ -112,9 +113,16 @@ fn pose(frame: &Value, id: u64) -> Option<(f64, f64, f64)> {
     Some((r["x"].as_f64()?, r["y"].as_f64()?, r["theta"].as_f64()?))
 }
 
-/// The end-to-end mission: fast, slippery (the MAXQ robot gets stuck), a BTM off for speed.
+/// The end-to-end mission: fast, slippery (the MAXQ robot gets stuck), no BTM (speed), and
+/// victims two-thirds buried, so that their exposed 0.06 m² give p ≈ 0.43 (uncertain: the
+/// robot hands them to the operator).
 fn e2e_mission() -> MissionConfig {
+    let mut scene = generate_rubble(1, &RubbleParams::default());
+    for v in &mut scene.victims {
+        v.buried_fraction = (1.0 - 0.06 / v.visible_size_m2.max(0.06)).clamp(0.0, 1.0);
+    }
     MissionConfig {
+        scene: Some(scene),
         team_robots: 2,
         train_trials: 200,
         speed: 8.0,
