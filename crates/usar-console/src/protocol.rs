@@ -26,9 +26,9 @@ pub enum ClientMessage {
     /// Authenticates this WebSocket connection for control.
     Auth { token: String },
     /// Stops the mission clock.
-    Pause,
+    Pause {},
     /// Restarts it.
-    Resume,
+    Resume {},
     /// Simulated seconds per wall-clock second (0 < factor ≤ 1000).
     Speed { factor: f64 },
     /// The answer to a victim hand-off: `tag` true confirms a victim, false rejects it.
@@ -63,8 +63,8 @@ impl ClientMessage {
     pub fn name(&self) -> &'static str {
         match self {
             ClientMessage::Auth { .. } => "auth",
-            ClientMessage::Pause => "pause",
-            ClientMessage::Resume => "resume",
+            ClientMessage::Pause {} => "pause",
+            ClientMessage::Resume {} => "resume",
             ClientMessage::Speed { .. } => "speed",
             ClientMessage::AnswerVictim { .. } => "answer_victim",
             ClientMessage::Drive { .. } => "drive",

@@ -149,11 +149,11 @@ impl ConsoleHook {
         let n = self.overrides.len();
         match message {
             ClientMessage::Auth { .. } => Ok(()),
-            ClientMessage::Pause => {
+            ClientMessage::Pause {} => {
                 self.pacer.paused = true;
                 Ok(())
             }
-            ClientMessage::Resume => {
+            ClientMessage::Resume {} => {
                 self.pacer.paused = false;
                 self.pacer.reanchor(self.sim_s);
                 Ok(())

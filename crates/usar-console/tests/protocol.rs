@@ -4,7 +4,7 @@ use usar_console::protocol::{ClientMessage, DriveCommand, parse};
 
 #[test]
 fn valid_messages_parse_into_their_variants() {
-    assert_eq!(parse(r#"{"type":"pause"}"#), Ok(ClientMessage::Pause));
+    assert_eq!(parse(r#"{"type":"pause"}"#), Ok(ClientMessage::Pause {}));
     assert_eq!(
         parse(r#"{"type":"drive","robot":0,"command":"left"}"#),
         Ok(ClientMessage::Drive {
