@@ -48,6 +48,8 @@ pub enum Command {
     /// A BTM file is a BTM database (.sqlite), its JSON export (.json) or compact binary (.btmb).
     #[command(subcommand)]
     Btm(BtmCommand),
+    /// The operator console: a live mission in the browser (`usar console --help`).
+    Console(crate::commands::console::ConsoleArgs),
 }
 
 #[derive(Debug, Subcommand)]

@@ -153,6 +153,18 @@ pub struct RunStats {
     pub time_s: f64,
 }
 
+/// What became of a possible victim, as an operator display shows it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VictimMark {
+    /// Not decided yet.
+    Pending,
+    /// Tagged as a victim (by the robot or the operator).
+    Tagged,
+    /// Rejected or dismissed (p below the dismiss threshold).
+    Dismissed,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Status {
     Pending,
@@ -777,6 +789,34 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             size_m2: v.first_size_m2,
             truth: v.truth,
         })
+    }
+
+    /// Replaces the exploration weights while the robot runs (the console's live w_l, w_p,
+    /// w_q) and recomputes the guidance from the map as it is.
+    pub fn set_exploration_weights(&mut self, weights: ExplorationWeights) {
+        self.explorer = Explorer::new(weights, &self.map);
+        if !self.done {
+            self.replan();
+        }
+    }
+
+    /// The possible victims met so far: cell, status and measured probability (if measured).
+    pub fn possible_victims(
+        &self,
+    ) -> impl Iterator<Item = ((i32, i32), VictimMark, Option<f64>)> + '_ {
+        self.victims.iter().map(|v| {
+            let mark = match v.status {
+                Status::Tagged => VictimMark::Tagged,
+                Status::Rejected => VictimMark::Dismissed,
+                _ => VictimMark::Pending,
+            };
+            (v.cell, mark, v.probability)
+        })
+    }
+
+    /// Whether the robot is stuck (its navigation is handed to the operator).
+    pub fn is_stuck(&self) -> bool {
+        self.stuck
     }
 
     /// Whether the run is over (the robot exited).

@@ -37,6 +37,6 @@ pub mod state;
 pub mod teleoperation;
 pub mod training;
 
-pub use self::domain::{DomainConfig, RescueDomain, RescueScene, RunStats};
+pub use self::domain::{DomainConfig, RescueDomain, RescueScene, RunStats, VictimMark};
 pub use self::hierarchy::RescueHierarchy;
 pub use self::state::{RescueState, VictimStatus};

@@ -30,5 +30,5 @@ pub mod team_size;
 pub mod travel_time;
 
 pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
-pub use self::mission::{MissionError, TeamMission};
+pub use self::mission::{MissionError, MissionHook, TeamMission};
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};

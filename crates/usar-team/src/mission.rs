@@ -150,6 +150,25 @@ struct Agent {
     uploaded: Option<OccupancyGrid>,
 }
 
+/// A live controller beside a running mission (the operator console): it may replace any
+/// robot's velocity command (teleoperation) and, after every simulation step, look at the
+/// mission, change it through its public methods, pace it, or end it.
+pub trait MissionHook {
+    /// The command robot `robot` gets this step; `planned` is the mission's own.
+    fn command(&mut self, _robot: usize, planned: Velocity) -> Velocity {
+        planned
+    }
+    /// Called after every simulation step; `false` ends the mission ([`Finish::Stopped`]).
+    fn after_step(&mut self, _mission: &mut TeamMission) -> bool {
+        true
+    }
+}
+
+/// The hook of a mission nobody watches.
+struct NoHook;
+
+impl MissionHook for NoHook {}
+
 pub struct TeamMission {
     config: TeamConfig,
     sim: Simulation,
@@ -944,7 +963,32 @@ impl TeamMission {
     }
 
     /// Runs the mission to its end; `on_progress` gets the simulated time now and then.
-    pub fn run(mut self, mut on_progress: impl FnMut(f64)) -> TeamOutcome {
+    pub fn run(self, on_progress: impl FnMut(f64)) -> TeamOutcome {
+        self.run_live(on_progress, &mut NoHook)
+    }
+
+    /// The robots' current goals (the end of the path each follows), by robot index.
+    pub fn robot_goal(&self, robot: usize) -> Option<Point2> {
+        self.agents.get(robot).and_then(|a| a.follower.goal())
+    }
+
+    /// Whether robot `robot` is backing out of a contact (a recovery manoeuvre).
+    pub fn is_recovering(&self, robot: usize) -> bool {
+        self.agents.get(robot).is_some_and(|a| a.recovery.is_some())
+    }
+
+    /// Replaces the relevance hypothesis of the auctions (paper 002 §4.1) while the mission
+    /// runs; the relevant-area measure keeps the hypothesis the mission started with.
+    pub fn set_hypothesis(&mut self, hypothesis: crate::criteria::Hypothesis) {
+        self.config.exploration.hypothesis = hypothesis;
+    }
+
+    /// [`TeamMission::run`] with a live controller beside it (see [`MissionHook`]).
+    pub fn run_live(
+        mut self,
+        mut on_progress: impl FnMut(f64),
+        hook: &mut dyn MissionHook,
+    ) -> TeamOutcome {
         let dt = self.config.sim.dt_s;
         let steps = (self.config.duration_s / dt).round() as u64;
         self.scan_all();
@@ -1018,8 +1062,14 @@ impl TeamMission {
                         }
                     }
                 })
+                .enumerate()
+                .map(|(i, planned)| hook.command(i, planned))
                 .collect();
             self.sim.step(&commands);
+            if !hook.after_step(&mut self) {
+                finish = Finish::Stopped;
+                break;
+            }
             let now = self.sim.time_s();
             if self.every(self.config.timing.scan_period_s, step) {
                 self.scan_all();

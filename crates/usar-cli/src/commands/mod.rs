@@ -4,6 +4,7 @@
 mod bench;
 mod btm;
 mod campaign;
+pub mod console;
 mod demo;
 mod explore;
 mod maxq;
@@ -26,6 +27,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Campaign(cmd) => campaign::run(cmd),
         Command::Maxq(cmd) => maxq::run(cmd),
         Command::Btm(cmd) => btm::run(cmd),
+        Command::Console(args) => console::run(args),
     }
 }
 
