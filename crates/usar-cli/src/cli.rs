@@ -592,7 +592,7 @@ pub struct ExploreArgs {
     pub scene: String,
     #[command(flatten)]
     pub image: ImageArgs,
-    /// Number of robots (the scene needs as many start poses).
+    /// Number of robots.
     #[arg(long, default_value_t = 4)]
     pub robots: usize,
     /// Seed of the run (and of the generator when --scene names one).
@@ -651,8 +651,9 @@ pub enum TeamCommand {
 
 #[derive(Debug, Args)]
 pub struct TeamRunArgs {
-    /// The scene: office, mall (generated with --scene-seed), or a scene file / map with a
-    /// room layer.
+    /// The scene: office, mall (generated with --scene-seed), or a scene file or map (.json,
+    /// .yaml, .pgm/.png with --resolution); one without a room layer is segmented into rooms
+    /// and corridors (`usar scene segment`), and start poses are added around its first one.
     #[arg(long, default_value = "office")]
     pub scene: String,
     /// Seed of the generated floor (the paper runs every configuration on one floor).
@@ -660,7 +661,7 @@ pub struct TeamRunArgs {
     pub scene_seed: u64,
     #[command(flatten)]
     pub image: ImageArgs,
-    /// Number of robots (the scene needs as many start poses).
+    /// Number of robots.
     #[arg(long, default_value_t = 6)]
     pub robots: usize,
     /// Exploration strategy: random, distance, d-mcdm, s-mcdm (or nearest: the baseline).

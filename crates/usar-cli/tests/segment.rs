@@ -60,6 +60,18 @@ fn scene_segment_scores_the_intel_lab_and_draws_the_rooms() {
         ]),
         "expected the map's",
     );
+    let bad = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(bad.path(), "door_ratio = 0.7\ndoor_width = 2\n").unwrap();
+    assert_bad_input(
+        &usar(&[
+            "scene",
+            "segment",
+            "office",
+            "--params",
+            bad.path().to_str().unwrap(),
+        ]),
+        "line 2: unknown field `door_width`",
+    );
 }
 
 fn team_json(scene: &str, extra: &[&str]) -> serde_json::Value {

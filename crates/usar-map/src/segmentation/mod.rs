@@ -27,7 +27,7 @@ use usar_world::{Grid, RoomSizeThresholds, Scene, obstacle};
 
 /// Parameters of the segmentation, in metres so that they do not depend on the resolution.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SegmentationParams {
     /// Free islands (4-connected) smaller than this are noise and stay outside every room, m².
     pub min_region_area_m2: f64,
@@ -65,6 +65,40 @@ impl Default for SegmentationParams {
             corridor_min_neighbours: 4,
             thresholds: RoomSizeThresholds::default(),
         }
+    }
+}
+
+impl SegmentationParams {
+    /// Every length and area positive and finite, κ in (0, 1], at least one neighbour.
+    pub fn check(&self) -> Result<(), String> {
+        let positive = [
+            ("min_region_area_m2", self.min_region_area_m2),
+            ("max_door_width_m", self.max_door_width_m),
+            ("min_depth_m", self.min_depth_m),
+            ("min_core_area_m2", self.min_core_area_m2),
+            ("min_room_area_m2", self.min_room_area_m2),
+            ("corridor_elongation", self.corridor_elongation),
+            ("thresholds.small_below_m2", self.thresholds.small_below_m2),
+            (
+                "thresholds.medium_below_m2",
+                self.thresholds.medium_below_m2,
+            ),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name}: found {v}, expected a positive number"));
+            }
+        }
+        if !(self.door_ratio > 0.0 && self.door_ratio <= 1.0) {
+            return Err(format!(
+                "door_ratio: found {}, expected a fraction in (0, 1]",
+                self.door_ratio
+            ));
+        }
+        if self.corridor_min_neighbours == 0 {
+            return Err("corridor_min_neighbours: found 0, expected at least 1".into());
+        }
+        Ok(())
     }
 }
 
