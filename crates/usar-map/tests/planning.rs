@@ -834,3 +834,43 @@ fn synthetic_building_of_tiny_or_empty_size_does_not_panic() {
         assert_eq!((grid.width(), grid.height()), (w, h));
     }
 }
+
+#[test]
+fn a_field_stopped_at_its_goals_prices_them_and_their_paths_like_a_full_one() {
+    use usar_map::planning::{Connectivity, DistanceField, NavGrid};
+    use usar_world::{Cell, GridGeometry, Point2};
+    let g = GridGeometry::new(80, 60, 0.4, Point2::new(0.0, 0.0));
+    let grid = NavGrid::from_fn(g, |c| {
+        (c.col % 13 == 6 && c.row % 17 != 4) || (c.row % 9 == 4 && c.col % 19 != 2)
+    });
+    let sources = [Cell::new(3, 2)];
+    let mut full = DistanceField::new();
+    full.compute(&grid, &sources, Connectivity::Eight);
+    let goals = [Cell::new(20, 10), Cell::new(33, 41), Cell::new(6, 5), Cell::new(13, 4)];
+    let mut part = DistanceField::new();
+    part.compute_to(&grid, &sources, &goals);
+    for &goal in &goals {
+        assert_eq!(part.distance_cells(goal), full.distance_cells(goal), "{goal:?}");
+        assert_eq!(part.path_to_source(goal), full.path_to_source(goal), "{goal:?}");
+    }
+    // It stopped early: the far corner is not priced.
+    assert!(full.distance_cells(Cell::new(78, 58)).is_some());
+    assert_eq!(part.distance_cells(Cell::new(78, 58)), None);
+    assert!(part.reached_count() < full.reached_count());
+    // An unreachable goal (a passable cell walled in) makes it search everything; no passable
+    // goal, nothing.
+    let mut walled = grid.clone();
+    let pocket = Cell::new(40, 30);
+    walled.set_passable(pocket, true);
+    for (dc, dr) in usar_world::NEIGHBORS8 {
+        walled.set_passable(Cell::new(pocket.col + dc, pocket.row + dr), false);
+    }
+    full.compute(&walled, &sources, Connectivity::Eight);
+    part.compute_to(&walled, &sources, &[pocket, Cell::new(33, 41)]);
+    assert_eq!(part.distance_cells(pocket), None);
+    assert!(full.distance_cells(Cell::new(78, 58)).is_some());
+    assert_eq!(part.distance_cells(Cell::new(78, 58)), full.distance_cells(Cell::new(78, 58)));
+    assert!(!grid.is_passable(Cell::new(6, 0)));
+    part.compute_to(&grid, &sources, &[Cell::new(6, 0)]);
+    assert_eq!(part.distance_cells(sources[0]), None);
+}
