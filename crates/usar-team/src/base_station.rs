@@ -4,6 +4,7 @@
 
 use crate::coverage::CoverageCounter;
 use usar_map::planning::NavGrid;
+use usar_map::occupancy::MergeSums;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
 use usar_world::{GridGeometry, Scene};
 
@@ -23,6 +24,8 @@ pub struct BaseStation {
     /// Cells whose tight navigability may have changed at the last merge.
     touched_tight: Vec<u32>,
     touched: Vec<u32>,
+    /// Running sums of the robots' maps (the merge visits only what changed).
+    sums: MergeSums,
 }
 
 impl BaseStation {
@@ -47,12 +50,13 @@ impl BaseStation {
             changed: Vec::new(),
             touched_tight: Vec::new(),
             touched: Vec::new(),
+            sums: MergeSums::default(),
         }
     }
 
     /// Merges the robots' grids into the team map and updates everything derived from it.
     pub fn merge(&mut self, robot_maps: &mut [&mut OccupancyGrid]) {
-        self.merged.merge_from(robot_maps);
+        self.merged.merge_tracked(robot_maps, &mut self.sums);
         self.changed.clear();
         self.merged.drain_changed(&mut self.changed);
         self.frontiers.update_from(&self.merged, &self.changed);
