@@ -846,12 +846,25 @@ fn a_field_stopped_at_its_goals_prices_them_and_their_paths_like_a_full_one() {
     let sources = [Cell::new(3, 2)];
     let mut full = DistanceField::new();
     full.compute(&grid, &sources, Connectivity::Eight);
-    let goals = [Cell::new(20, 10), Cell::new(33, 41), Cell::new(6, 5), Cell::new(13, 4)];
+    let goals = [
+        Cell::new(20, 10),
+        Cell::new(33, 41),
+        Cell::new(6, 5),
+        Cell::new(13, 4),
+    ];
     let mut part = DistanceField::new();
     part.compute_to(&grid, &sources, &goals);
     for &goal in &goals {
-        assert_eq!(part.distance_cells(goal), full.distance_cells(goal), "{goal:?}");
-        assert_eq!(part.path_to_source(goal), full.path_to_source(goal), "{goal:?}");
+        assert_eq!(
+            part.distance_cells(goal),
+            full.distance_cells(goal),
+            "{goal:?}"
+        );
+        assert_eq!(
+            part.path_to_source(goal),
+            full.path_to_source(goal),
+            "{goal:?}"
+        );
     }
     // It stopped early: the far corner is not priced.
     assert!(full.distance_cells(Cell::new(78, 58)).is_some());
@@ -869,7 +882,10 @@ fn a_field_stopped_at_its_goals_prices_them_and_their_paths_like_a_full_one() {
     part.compute_to(&walled, &sources, &[pocket, Cell::new(33, 41)]);
     assert_eq!(part.distance_cells(pocket), None);
     assert!(full.distance_cells(Cell::new(78, 58)).is_some());
-    assert_eq!(part.distance_cells(Cell::new(78, 58)), full.distance_cells(Cell::new(78, 58)));
+    assert_eq!(
+        part.distance_cells(Cell::new(78, 58)),
+        full.distance_cells(Cell::new(78, 58))
+    );
     assert!(!grid.is_passable(Cell::new(6, 0)));
     part.compute_to(&grid, &sources, &[Cell::new(6, 0)]);
     assert_eq!(part.distance_cells(sources[0]), None);

@@ -3,8 +3,8 @@
 //! the coverage count, all updated from one log of class changes.
 
 use crate::coverage::CoverageCounter;
-use usar_map::planning::NavGrid;
 use usar_map::occupancy::MergeSums;
+use usar_map::planning::NavGrid;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
 use usar_world::{GridGeometry, Scene};
 
@@ -45,7 +45,10 @@ impl BaseStation {
             navigable_tight: NavigableMap::new(&merged, tight_radius_m),
             coverage: CoverageCounter::new(scene, start, &geometry),
             // Nothing is known yet, so nothing is navigable.
-            nav_grids: [NavGrid::all_blocked(geometry), NavGrid::all_blocked(geometry)],
+            nav_grids: [
+                NavGrid::all_blocked(geometry),
+                NavGrid::all_blocked(geometry),
+            ],
             merged,
             changed: Vec::new(),
             touched_tight: Vec::new(),
@@ -64,8 +67,11 @@ impl BaseStation {
         self.navigable
             .update_from_logged(&self.merged, &self.changed, &mut self.touched);
         self.touched_tight.clear();
-        self.navigable_tight
-            .update_from_logged(&self.merged, &self.changed, &mut self.touched_tight);
+        self.navigable_tight.update_from_logged(
+            &self.merged,
+            &self.changed,
+            &mut self.touched_tight,
+        );
         let g = *self.merged.geometry();
         for (k, (nav, touched)) in [
             (&self.navigable, &self.touched),
@@ -76,7 +82,8 @@ impl BaseStation {
         {
             for &i in touched {
                 let i = i as usize;
-                self.nav_grids[k].set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
+                self.nav_grids[k]
+                    .set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
             }
         }
         self.coverage.update_from(&self.merged, &self.changed);

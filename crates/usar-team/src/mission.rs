@@ -786,11 +786,9 @@ impl TeamMission {
                 })
                 .collect();
             let wanted: Vec<Cell> = goals.iter().flatten().copied().collect();
-            agent.field.compute_to(
-                &grid,
-                &source.into_iter().collect::<Vec<_>>(),
-                &wanted,
-            );
+            agent
+                .field
+                .compute_to(&grid, &source.into_iter().collect::<Vec<_>>(), &wanted);
             let travel_times = &mut self.travel_times;
             travel_times.reset(&agent.field, pose.theta);
             let row: Vec<Option<crate::bids::Travel>> = goals

@@ -306,7 +306,10 @@ impl DistanceField {
                 pending.retain(|&i| !(distance[i] < level));
                 if pending.is_empty() {
                     self.limit = level;
-                    for list in [&mut *current, &mut *next, &mut *after].into_iter().flatten() {
+                    for list in [&mut *current, &mut *next, &mut *after]
+                        .into_iter()
+                        .flatten()
+                    {
                         list.clear();
                     }
                     break;
