@@ -771,30 +771,26 @@ impl TeamMission {
             let agent = &mut self.agents[i];
             agent.blacklist.retain(|&(_, until)| until > now);
             let source = nearest_passable(&grid, cg.world_to_cell(pose.position()), 4);
-            // The candidates this robot may bid on, as cells of the coarse grid (None: not
-            // for it); the search stops once all of them are priced.
-            let goals: Vec<Option<Cell>> = cands
+            agent.field.compute(
+                &grid,
+                &source.into_iter().collect::<Vec<_>>(),
+                usar_map::planning::Connectivity::Eight,
+            );
+            let travel_times = &mut self.travel_times;
+            travel_times.reset(&agent.field, pose.theta);
+            let row: Vec<Option<crate::bids::Travel>> = cands
                 .iter()
                 .zip(&visited)
                 .map(|(c, &visited)| {
-                    let barred = visited
+                    if visited
                         || agent
                             .blacklist
                             .iter()
-                            .any(|&(b, _)| b.chebyshev(c.cell) <= 3);
-                    (!barred).then(|| cg.world_to_cell(g.cell_center(c.cell)))
-                })
-                .collect();
-            let wanted: Vec<Cell> = goals.iter().flatten().copied().collect();
-            agent
-                .field
-                .compute_to(&grid, &source.into_iter().collect::<Vec<_>>(), &wanted);
-            let travel_times = &mut self.travel_times;
-            travel_times.reset(&agent.field, pose.theta);
-            let row: Vec<Option<crate::bids::Travel>> = goals
-                .iter()
-                .map(|&goal| {
-                    let goal = goal?;
+                            .any(|&(b, _)| b.chebyshev(c.cell) <= 3)
+                    {
+                        return None;
+                    }
+                    let goal = cg.world_to_cell(g.cell_center(c.cell));
                     let cells = agent.field.distance_cells(goal)?;
                     let length_m = cells * cg.resolution_m;
                     let time_s = if needs_time {

@@ -132,11 +132,6 @@ pub struct DistanceField {
     /// and the one after it.
     buckets: [MoveLists; 3],
     reached: usize,
-    /// Distances below this are final ([`DistanceField::compute_to`] stops early); cells at or
-    /// beyond it count as unreached.
-    limit: f64,
-    /// Goals of [`DistanceField::compute_to`] not yet final.
-    pending: Vec<usize>,
 }
 
 impl Default for DistanceField {
@@ -158,8 +153,6 @@ impl DistanceField {
             sources: Vec::new(),
             buckets: Default::default(),
             reached: 0,
-            limit: f64::INFINITY,
-            pending: Vec::new(),
         }
     }
 
@@ -169,31 +162,7 @@ impl DistanceField {
     /// grid of more than 2³² − 1 padded cells) every cell is unreachable. Duplicate sources
     /// count once.
     pub fn compute(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
-        self.pending.clear();
-        self.start(grid, sources, connectivity);
-    }
-
-    /// Like [`DistanceField::compute`] with 8-connectivity, but the search stops as soon as
-    /// every reachable cell of `goals` has its final distance: the distances of the goals, and
-    /// of every cell nearer to the sources than the farthest reachable goal (so every path to a
-    /// source from a goal), are those `compute` gives; farther cells count as unreachable.
-    pub fn compute_to(&mut self, grid: &NavGrid, sources: &[Cell], goals: &[Cell]) {
-        self.pending.clear();
-        for &g in goals {
-            if grid.is_passable(g) {
-                self.pending.push(grid.padded_index(g));
-            }
-        }
-        if self.pending.is_empty() {
-            // Nothing to wait for: no search at all, nothing reachable.
-            self.pending.push(usize::MAX);
-        }
-        self.start(grid, sources, Connectivity::Eight);
-    }
-
-    fn start(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
         let len = grid.cells().len();
-        self.limit = f64::INFINITY;
         self.geometry = *grid.geometry();
         self.stride = grid.stride();
         self.connectivity = connectivity;
@@ -274,14 +243,6 @@ impl DistanceField {
         let (mut current, mut next, mut after) = (b0, b1, b2);
         let mut reached = current[SOURCE_MOVE].len();
         let mut level = 0.0;
-        let pending = &mut self.pending;
-        // `usize::MAX`: goals were asked for but none is passable.
-        let waits = !pending.is_empty() && pending[0] != usize::MAX;
-        if !pending.is_empty() && !waits {
-            self.limit = 0.0;
-            self.reached = 0;
-            return;
-        }
         while [&*current, &*next, &*after]
             .iter()
             .any(|bucket| bucket.iter().any(|list| !list.is_empty()))
@@ -301,20 +262,6 @@ impl DistanceField {
             }
             (current, next, after) = (next, after, current);
             level += 1.0;
-            if waits {
-                // Every distance below `level` is final now.
-                pending.retain(|&i| !(distance[i] < level));
-                if pending.is_empty() {
-                    self.limit = level;
-                    for list in [&mut *current, &mut *next, &mut *after]
-                        .into_iter()
-                        .flatten()
-                    {
-                        list.clear();
-                    }
-                    break;
-                }
-            }
         }
         self.reached = reached;
     }
@@ -344,11 +291,7 @@ impl DistanceField {
         self.geometry
             .contains(cell)
             .then(|| (cell.row as usize + 1) * self.stride + cell.col as usize + 1)
-            .filter(|&i| {
-                self.distance
-                    .get(i)
-                    .is_some_and(|&d| reached(d) && d < self.limit)
-            })
+            .filter(|&i| self.distance.get(i).is_some_and(|&d| reached(d)))
     }
 
     /// Distance in cells from `cell` to its nearest source; `None` when unreachable or outside.
@@ -435,7 +378,7 @@ impl DistanceField {
             for (row, dst) in out.as_mut_slice().chunks_exact_mut(w).enumerate() {
                 let start = (row + 1) * self.stride + 1;
                 for (d, &dist) in dst.iter_mut().zip(&self.distance[start..start + w]) {
-                    if reached(dist) && dist < self.limit {
+                    if reached(dist) {
                         *d = dist;
                     }
                 }
