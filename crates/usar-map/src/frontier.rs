@@ -92,8 +92,7 @@ impl FrontierTracker {
         for dr in -radius_cells..=radius_cells {
             for dc in -radius_cells..=radius_cells {
                 let (c, r) = (center.col + dc, center.row + dr);
-                if dc * dc + dr * dr > r2 || c < 0 || r < 0 || c >= self.width || r >= self.height
-                {
+                if dc * dc + dr * dr > r2 || c < 0 || r < 0 || c >= self.width || r >= self.height {
                     continue;
                 }
                 let i = r as usize * self.width as usize + c as usize;

@@ -62,7 +62,12 @@ impl NavigableMap {
         self.update(grid, changed, Some(touched));
     }
 
-    fn update(&mut self, grid: &OccupancyGrid, changed: &[u32], mut touched: Option<&mut Vec<u32>>) {
+    fn update(
+        &mut self,
+        grid: &OccupancyGrid,
+        changed: &[u32],
+        mut touched: Option<&mut Vec<u32>>,
+    ) {
         let (w, h) = (self.geometry.width as i32, self.geometry.height as i32);
         for &i in changed {
             let i = i as usize;

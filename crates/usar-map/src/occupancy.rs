@@ -429,6 +429,90 @@ impl OccupancyGrid {
     }
 }
 
+/// Running sums of a fixed list of sources for [`OccupancyGrid::merge_tracked`]: per cell the
+/// sum of the observed sources' log-odds and how many observed it, and each source's values as
+/// last merged.
+#[derive(Clone, Debug, Default)]
+pub struct MergeSums {
+    sum: Vec<i16>,
+    observers: Vec<u16>,
+    last: Vec<Vec<i8>>,
+}
+
+impl OccupancyGrid {
+    /// The same result, cell for cell and in the same change-log order, as
+    /// [`OccupancyGrid::merge_from`] when `sums` has followed every merge of this grid with the
+    /// same list of `sources` (it starts empty and is reset when the list's length changes).
+    /// Instead of adding up every source on every dirty tile, each source's dirty tiles update
+    /// the running sums by the cells that changed since its last merge.
+    pub fn merge_tracked(&mut self, sources: &mut [&mut OccupancyGrid], sums: &mut MergeSums) {
+        let n = self.logodds.len();
+        if sums.last.len() != sources.len() || sums.sum.len() != n {
+            // A new list: start from what the sources hold now, all of it.
+            *sums = MergeSums {
+                sum: vec![0; n],
+                observers: vec![0; n],
+                last: vec![vec![NEVER_OBSERVED; n]; sources.len()],
+            };
+            for s in sources.iter_mut() {
+                s.log.dirty_tiles.fill(true);
+            }
+        }
+        let n_tiles = self.log.dirty_tiles.len();
+        let w = self.geometry.width as usize;
+        let h = self.geometry.height as usize;
+        let side = 1usize << TILE_SHIFT;
+        for tile in 0..n_tiles {
+            if !sources.iter().any(|s| s.log.dirty_tiles[tile]) {
+                continue;
+            }
+            let (tx, ty) = (tile % self.log.tiles_x, tile / self.log.tiles_x);
+            let (x0, y0) = (tx * side, ty * side);
+            let (x1, y1) = ((x0 + side).min(w), (y0 + side).min(h));
+            for (s, last) in sources.iter().zip(sums.last.iter_mut()) {
+                if !s.log.dirty_tiles[tile] {
+                    continue;
+                }
+                for row in y0..y1 {
+                    let span = row * w + x0..row * w + x1;
+                    for (k, (&now, was)) in s.logodds[span.clone()]
+                        .iter()
+                        .zip(&mut last[span.clone()])
+                        .enumerate()
+                    {
+                        if now == *was {
+                            continue;
+                        }
+                        let i = span.start + k;
+                        if *was != NEVER_OBSERVED {
+                            sums.sum[i] -= i16::from(*was);
+                            sums.observers[i] -= 1;
+                        }
+                        if now != NEVER_OBSERVED {
+                            sums.sum[i] += i16::from(now);
+                            sums.observers[i] += 1;
+                        }
+                        *was = now;
+                    }
+                }
+            }
+            for row in y0..y1 {
+                for i in row * w + x0..row * w + x1 {
+                    let target = if sums.observers[i] > 0 {
+                        sums.sum[i].clamp(-i16::from(LOGODDS_LIMIT), i16::from(LOGODDS_LIMIT)) as i8
+                    } else {
+                        NEVER_OBSERVED
+                    };
+                    self.cells().set(i, target);
+                }
+            }
+        }
+        for s in sources.iter_mut() {
+            s.log.dirty_tiles.fill(false);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -489,6 +573,39 @@ mod tests {
         assert_eq!(merged.logodds()[g.index(Cell::new(15, 5))], 18);
         assert_eq!(merged.logodds()[g.index(Cell::new(10, 5))], -8);
         assert_eq!(merged.known_cells(), 11);
+    }
+
+    #[test]
+    fn tracked_merging_equals_merging_every_source_with_the_same_change_log() {
+        use rand::SeedableRng;
+        let g = GridGeometry::new(90, 70, 0.1, Point2::new(0.0, 0.0));
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let mut robots: Vec<OccupancyGrid> = (0..3)
+            .map(|_| OccupancyGrid::new(g, OccupancyParams::default()))
+            .collect();
+        let mut copies = robots.clone();
+        let mut full = OccupancyGrid::new(g, OccupancyParams::default());
+        let mut tracked = full.clone();
+        let mut sums = MergeSums::default();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for round in 0..12 {
+            for (k, (r, c)) in robots.iter_mut().zip(copies.iter_mut()).enumerate() {
+                if (round + k) % 3 != 0 {
+                    let scan = random_scan(&mut rng, &g, 60);
+                    r.integrate_scan(&scan);
+                    c.integrate_scan(&scan);
+                }
+            }
+            full.merge_from(&mut robots.iter_mut().collect::<Vec<_>>());
+            tracked.merge_tracked(&mut copies.iter_mut().collect::<Vec<_>>(), &mut sums);
+            assert_eq!(full.logodds(), tracked.logodds(), "round {round}");
+            a.clear();
+            b.clear();
+            full.drain_changed(&mut a);
+            tracked.drain_changed(&mut b);
+            assert_eq!(a, b, "round {round}");
+            assert_eq!(full.known_cells(), tracked.known_cells());
+        }
     }
 
     #[test]

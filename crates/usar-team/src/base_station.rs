@@ -3,6 +3,7 @@
 //! the coverage count, all updated from one log of class changes.
 
 use crate::coverage::CoverageCounter;
+use usar_map::occupancy::MergeSums;
 use usar_map::planning::NavGrid;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
 use usar_world::{GridGeometry, Scene};
@@ -23,6 +24,8 @@ pub struct BaseStation {
     /// Cells whose tight navigability may have changed at the last merge.
     touched_tight: Vec<u32>,
     touched: Vec<u32>,
+    /// Running sums of the robots' maps (the merge visits only what changed).
+    sums: MergeSums,
 }
 
 impl BaseStation {
@@ -42,17 +45,21 @@ impl BaseStation {
             navigable_tight: NavigableMap::new(&merged, tight_radius_m),
             coverage: CoverageCounter::new(scene, start, &geometry),
             // Nothing is known yet, so nothing is navigable.
-            nav_grids: [NavGrid::all_blocked(geometry), NavGrid::all_blocked(geometry)],
+            nav_grids: [
+                NavGrid::all_blocked(geometry),
+                NavGrid::all_blocked(geometry),
+            ],
             merged,
             changed: Vec::new(),
             touched_tight: Vec::new(),
             touched: Vec::new(),
+            sums: MergeSums::default(),
         }
     }
 
     /// Merges the robots' grids into the team map and updates everything derived from it.
     pub fn merge(&mut self, robot_maps: &mut [&mut OccupancyGrid]) {
-        self.merged.merge_from(robot_maps);
+        self.merged.merge_tracked(robot_maps, &mut self.sums);
         self.changed.clear();
         self.merged.drain_changed(&mut self.changed);
         self.frontiers.update_from(&self.merged, &self.changed);
@@ -60,8 +67,11 @@ impl BaseStation {
         self.navigable
             .update_from_logged(&self.merged, &self.changed, &mut self.touched);
         self.touched_tight.clear();
-        self.navigable_tight
-            .update_from_logged(&self.merged, &self.changed, &mut self.touched_tight);
+        self.navigable_tight.update_from_logged(
+            &self.merged,
+            &self.changed,
+            &mut self.touched_tight,
+        );
         let g = *self.merged.geometry();
         for (k, (nav, touched)) in [
             (&self.navigable, &self.touched),
@@ -72,7 +82,8 @@ impl BaseStation {
         {
             for &i in touched {
                 let i = i as usize;
-                self.nav_grids[k].set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
+                self.nav_grids[k]
+                    .set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
             }
         }
         self.coverage.update_from(&self.merged, &self.changed);

@@ -260,9 +260,14 @@ mod tests {
         let g = GridGeometry::new(70, 66, 0.1, Point2::new(0.0, 0.0));
         let mut nav = NavGrid::from_fn(g, |c| (c.col * 7 + c.row * 3) % 5 == 0);
         nav.bit_lines();
-        for (k, c) in [Cell::new(0, 0), Cell::new(63, 64), Cell::new(64, 1), Cell::new(69, 65)]
-            .into_iter()
-            .enumerate()
+        for (k, c) in [
+            Cell::new(0, 0),
+            Cell::new(63, 64),
+            Cell::new(64, 1),
+            Cell::new(69, 65),
+        ]
+        .into_iter()
+        .enumerate()
         {
             nav.set_passable(c, k % 2 == 0);
             nav.set_passable(Cell::new(c.col / 2, c.row), k % 2 == 1);
