@@ -522,8 +522,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             (None, _) => {}
             (Some(v), None) => {
                 let (vc, vr) = v.cell;
-                self.explorer
-                    .search_toward(&self.map, c.col, c.row, vc, vr);
+                self.explorer.search_toward(&self.map, c.col, c.row, vc, vr);
             }
             _ => self.explorer.search_all(&self.map, c.col, c.row),
         }
@@ -696,8 +695,8 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             });
         // A bump also corrects the map (progress), but it is never on course; progress made
         // by the replanning that follows (a victim brought at hand) counts too (`act`).
-        self.on_course = moved_along
-            || (outcome != CellOutcome::Collided && self.progress != progress_before);
+        self.on_course =
+            moved_along || (outcome != CellOutcome::Collided && self.progress != progress_before);
         self.collided = outcome == CellOutcome::Collided;
         if outcome == CellOutcome::Moved && act == CellAction::Forward {
             let (dc, dr) = self.heading().step();

@@ -117,7 +117,8 @@ pub struct PreparedTrial {
 /// Trial `t` of a training run from `seed`, prepared (a pure function of both).
 pub fn prepare_trial(seed: u64, t: u32) -> PreparedTrial {
     let (scene, start) = training_scene(seed, t);
-    let mut perception = RescueDomain::<SimulatedOperator>::perception(&scene, start, trial_seed(seed, t));
+    let mut perception =
+        RescueDomain::<SimulatedOperator>::perception(&scene, start, trial_seed(seed, t));
     perception.sense_all(&scene.scene, &scene.view);
     PreparedTrial {
         scene,

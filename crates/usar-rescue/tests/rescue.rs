@@ -234,7 +234,13 @@ fn the_depth_classifier_reads_scene_b_as_the_cell_view_does() {
     let scene = usar_rescue::evaluation::eval_scene("B", 1).unwrap();
     let view = &scene.view;
     let mut p = Perception::new(&scene.scene, view, scene.start(0).unwrap().0, 5);
-    let merge = |c: CellClass| if c == CellClass::Drop { CellClass::NonClimbable } else { c };
+    let merge = |c: CellClass| {
+        if c == CellClass::Drop {
+            CellClass::NonClimbable
+        } else {
+            c
+        }
+    };
     let (mut seen, mut wrong) = (0, 0);
     for i in 0..view.classes.len() {
         if !view.terrain_classes[i].is_passable_terrain(true) || scene.victim_cell[i] {
