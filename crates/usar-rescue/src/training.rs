@@ -153,9 +153,14 @@ impl Domain for FlatDomain<'_, '_> {
     fn is_terminal(&self, s: &RescueState) -> bool {
         s.done()
     }
-    /// The same precondition as the hierarchy's: Exit only when nothing is left to explore.
+    /// The same preconditions as the hierarchy's: Exit only when nothing is left to explore,
+    /// B only into a cell the map shows free.
     fn available(&self, s: &RescueState, a: usize) -> bool {
-        FLAT_ACTIONS[a] != action::EXIT || !s.targets_remain()
+        match FLAT_ACTIONS[a] {
+            action::EXIT => !s.targets_remain(),
+            action::BACKWARD => s.back_known_free(),
+            _ => true,
+        }
     }
 }
 

@@ -195,6 +195,8 @@ fn exit_is_available_only_when_nothing_is_left_to_explore() {
     assert!(!h.available(hierarchy::EXIT, &exploring));
     assert!(h.available(hierarchy::EXIT, &explored));
     assert!(h.available(hierarchy::FORWARD, &exploring));
+    // The map shows nothing behind the robot (backward category 0): no blind reversing.
+    assert!(!h.available(hierarchy::BACKWARD, &exploring));
 }
 
 #[test]
