@@ -18,8 +18,10 @@
 //!   undecided; Exit earlier: −10. Exit ends the episode.
 //!
 //! **Hand-offs**: after `stuck_after_slips` slips in a row the robot is stuck and asks the
-//! operator to drive (HC₃) until a command takes effect; a possible victim at hand with
-//! 0.3 ≤ p ≤ 0.7 is handed to the operator (HC₂).
+//! operator to drive (HC₃) until a command takes effect; after `stuck_after_idle_steps`
+//! navigation primitives without exploration progress it is stuck too and the operator drives
+//! until progress is made; a possible victim at hand with 0.3 ≤ p ≤ 0.7 is handed to the
+//! operator (HC₂).
 
 use crate::cell_map::{CellMap, MapCell};
 use crate::exploration::{Direction, ExplorationWeights, Explorer, Guidance};
@@ -122,6 +124,11 @@ pub struct DomainConfig {
     pub slip_probability: f64,
     /// Slips in a row after which the robot is stuck and hands navigation to the operator.
     pub stuck_after_slips: u32,
+    /// Navigation primitives of the robot without exploration progress after which it is
+    /// stuck too ("unable to navigate autonomously", §IV-A-5): the operator drives until
+    /// progress is made.
+    #[serde(default = "default_idle_steps")]
+    pub stuck_after_idle_steps: u32,
     /// Seconds per primitive action while the robot is in control.
     pub robot_step_s: f64,
 }
@@ -134,9 +141,15 @@ impl Default for DomainConfig {
         Self {
             slip_probability: 0.3,
             stuck_after_slips: 2,
+            stuck_after_idle_steps: default_idle_steps(),
             robot_step_s: 1.5,
         }
     }
+}
+
+/// 40 primitives: twice the longest straight path across the 20 × 20 arena.
+fn default_idle_steps() -> u32 {
+    40
 }
 
 /// What a run did (ground truth used only here, for scoring).
@@ -211,7 +224,15 @@ pub struct RescueDomain<'a, O: HandOff> {
     progress: u32,
     /// The last primitive moved the robot one cell along the desired heading or made progress.
     on_course: bool,
+    /// The last navigation primitive collided.
+    collided: bool,
+    /// The robot's navigation primitives since the last exploration progress.
+    idle_steps: u32,
+    /// Stuck for want of progress (cleared by progress, not by a move).
+    stuck_idle: bool,
     operator_turn: bool,
+    /// The last navigation primitive was the operator's.
+    operator_drove: bool,
     done: bool,
     pub stats: RunStats,
     /// Whether the operator drives alone (teleoperated mode): no learning, no automatic tags.
@@ -272,7 +293,11 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             map_hash: initial_map_hash(view.classes.len()),
             progress: 0,
             on_course: false,
+            collided: false,
+            idle_steps: 0,
+            stuck_idle: false,
             operator_turn: false,
+            operator_drove: false,
             done: false,
             stats: RunStats::default(),
             teleoperated: false,
@@ -349,7 +374,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         let rotate =
             usize::from(self.facing_obstacle_after_move && ahead.is_some_and(|i| !self.avoided[i]));
         RescueState::new(
-            self.stuck,
+            self.stuck || self.stuck_idle,
             self.guidance.heading.is_some(),
             self.done,
             heading.is_some(),
@@ -383,7 +408,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             | (victim as u64) << 24
             | self.guidance.direction.map_or(0, |d| d.index() as u64 + 1) << 20
             | heading.map_or(0, |d| d.index() as u64 + 1) << 16
-            | u64::from(self.stuck) << 15
+            | u64::from(self.stuck || self.stuck_idle) << 15
             | relative_victim;
         splitmix64(self.map_hash ^ splitmix64(small))
     }
@@ -504,8 +529,14 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             return;
         }
         let mut best: Option<(u32, usize, Option<Direction>)> = None;
-        if self.victims.iter().any(|v| v.status == Status::Pending) {
-            self.explorer.search_all(&self.map, c.col, c.row);
+        let mut pending = self.victims.iter().filter(|v| v.status == Status::Pending);
+        match (pending.next(), pending.next()) {
+            (None, _) => {}
+            (Some(v), None) => {
+                let (vc, vr) = v.cell;
+                self.explorer.search_toward(&self.map, c.col, c.row, vc, vr);
+            }
+            _ => self.explorer.search_all(&self.map, c.col, c.row),
         }
         for (k, v) in self.victims.iter().enumerate() {
             if v.status != Status::Pending {
@@ -574,6 +605,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
 
     fn navigate(&mut self, act: CellAction) -> f64 {
         let by_operator = std::mem::take(&mut self.operator_turn) || self.teleoperated;
+        self.operator_drove = by_operator;
         self.stats.steps += 1;
         self.stats.time_s += if by_operator {
             self.operator.command_time_s()
@@ -673,9 +705,11 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 let c = self.robot.cell;
                 d.step() == (c.col - before.col, c.row - before.row)
             });
-        // A bump also corrects the map (progress), but it is never on course.
-        self.on_course = moved_along
-            || (outcome != CellOutcome::Collided && self.progress != progress_before);
+        // A bump also corrects the map (progress), but it is never on course; progress made
+        // by the replanning that follows (a victim brought at hand) counts too (`act`).
+        self.on_course =
+            moved_along || (outcome != CellOutcome::Collided && self.progress != progress_before);
+        self.collided = outcome == CellOutcome::Collided;
         if outcome == CellOutcome::Moved && act == CellAction::Forward {
             let (dc, dr) = self.heading().step();
             let c = self.robot.cell;
@@ -740,6 +774,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
 
     /// Executes one primitive action (see [`action`]) and returns its reward.
     pub fn act(&mut self, a: usize) -> f64 {
+        let progress_before = self.progress;
         let reward = match a {
             action::FORWARD => self.navigate(CellAction::Forward),
             action::BACKWARD => self.navigate(CellAction::Backward),
@@ -751,6 +786,20 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         };
         if !self.done {
             self.replan();
+        }
+        if a <= action::ROTATE_RIGHT {
+            if self.progress != progress_before {
+                self.on_course |= !self.collided;
+                self.idle_steps = 0;
+                self.stuck_idle = false;
+            } else if !std::mem::take(&mut self.operator_drove) {
+                self.idle_steps += 1;
+                if !self.stuck_idle && self.idle_steps >= self.config.stuck_after_idle_steps {
+                    self.stuck_idle = true;
+                    self.stats.handoffs_stuck += 1;
+                    self.stats.time_s += self.operator.response_delay_s();
+                }
+            }
         }
         reward
     }

@@ -304,15 +304,16 @@ impl Explorer {
 
     /// Breadth-first path distances from cell `start` through known passable cells, with the
     /// first step of a shortest path to each reached cell. With a `goal` the search stops as
-    /// soon as the goal (or, for an unclassified goal, the first cell facing it) is reached:
-    /// the distances of the cells met so far are final.
+    /// soon as the goal (or, for a goal the robot cannot enter, the first cell facing it) is
+    /// reached: the distances of the cells met so far are final.
     fn search(&mut self, map: &CellMap, start: usize, goal: Option<usize>) {
         self.distance.fill(u32::MAX);
         self.queue.clear();
         self.complete_from = None;
         self.distance[start] = 0;
         self.queue.push(start as u32);
-        let goal_unclassified = goal.is_some_and(|g| map.cells[g].is_unclassified());
+        // A goal the robot cannot enter (unclassified, a victim) is reached from a neighbour.
+        let goal_unclassified = goal.is_some_and(|g| !map.cells[g].is_known_passable());
         let goal = goal.map_or(NONE, |g| g as u32);
         let mut head = 0;
         while head < self.queue.len() {
@@ -352,6 +353,16 @@ impl Explorer {
             && self.complete_from != Some(start)
         {
             self.search(map, start, None);
+        }
+    }
+
+    /// Path distances from the robot at (rc, rr) until the cells facing (gc, gr) are reached
+    /// (for [`Explorer::toward_victim`] with a single victim to approach).
+    pub fn search_toward(&mut self, map: &CellMap, rc: i32, rr: i32, gc: i32, gr: i32) {
+        if let (Some(start), Some(goal)) = (map.index(rc, rr), map.index(gc, gr))
+            && self.complete_from != Some(start)
+        {
+            self.search(map, start, Some(goal));
         }
     }
 

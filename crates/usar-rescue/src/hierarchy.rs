@@ -46,7 +46,8 @@
 //!
 //! **Preconditions.** Exit USAR Scene is available only when no cell of interest the robot
 //! can reach or face remains (§IV-A-2: Exit "triggers the end of exploration"); NUR then has
-//! nothing else to do.
+//! nothing else to do. B is available only when the robot's map shows the cell behind free:
+//! the depth sensor looks ahead, and the rear infrared cannot tell open floor from a drop.
 
 use crate::state::{RescueState, VictimStatus};
 use usar_maxq::{Hierarchy, Node, NodeId, NodeKind};
@@ -179,7 +180,11 @@ impl Hierarchy<RescueState> for RescueHierarchy {
     }
 
     fn available(&self, node: NodeId, s: &RescueState) -> bool {
-        node != EXIT || !s.targets_remain()
+        match node {
+            EXIT => !s.targets_remain(),
+            BACKWARD => s.back_known_free(),
+            _ => true,
+        }
     }
 
     fn ended_since(&self, node: NodeId, start: &RescueState, now: &RescueState) -> bool {

@@ -120,14 +120,18 @@ impl SimulatedOperator {
         }
     }
 
-    /// The sensible command: toward the suggested direction if the camera shows it free,
-    /// otherwise toward any free neighbour, preferring cells not visited.
+    /// The sensible command: toward the suggested direction if the camera shows it free; to
+    /// face it if it is not (a victim or an unknown cell to look at); otherwise toward any
+    /// free neighbour, preferring cells not visited.
     fn sensible(request: &NavigationRequest) -> CellAction {
         let free = |d: Direction| {
             let (class, victim) = request.camera[d.index()];
             class.is_passable_terrain(true) && !victim
         };
-        let want = request.suggested.filter(|&d| free(d)).or_else(|| {
+        let face = request
+            .suggested
+            .filter(|&d| !free(d) && d != request.heading);
+        let want = request.suggested.filter(|&d| free(d)).or(face).or_else(|| {
             Direction::ALL
                 .into_iter()
                 .filter(|&d| free(d))
@@ -136,6 +140,14 @@ impl SimulatedOperator {
         let Some(want) = want else {
             return CellAction::RotateLeft;
         };
+        if face == Some(want) {
+            let h = request.heading.index();
+            return if (want.index() + 4 - h) % 4 == 3 {
+                CellAction::RotateRight
+            } else {
+                CellAction::RotateLeft
+            };
+        }
         let h = request.heading.index();
         match (want.index() + 4 - h) % 4 {
             0 => CellAction::Forward,

@@ -108,6 +108,10 @@ impl RescueState {
         }
         self
     }
+    /// Whether the robot's map shows the cell behind free (see `backward`).
+    pub fn back_known_free(&self) -> bool {
+        matches!(self.backward >> 1, 1 | 2)
+    }
     pub fn on_course(&self) -> bool {
         self.flags & ON_COURSE != 0
     }

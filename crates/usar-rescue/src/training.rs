@@ -117,7 +117,8 @@ pub struct PreparedTrial {
 /// Trial `t` of a training run from `seed`, prepared (a pure function of both).
 pub fn prepare_trial(seed: u64, t: u32) -> PreparedTrial {
     let (scene, start) = training_scene(seed, t);
-    let mut perception = RescueDomain::<SimulatedOperator>::perception(&scene, start, trial_seed(seed, t));
+    let mut perception =
+        RescueDomain::<SimulatedOperator>::perception(&scene, start, trial_seed(seed, t));
     perception.sense_all(&scene.scene, &scene.view);
     PreparedTrial {
         scene,
@@ -152,9 +153,14 @@ impl Domain for FlatDomain<'_, '_> {
     fn is_terminal(&self, s: &RescueState) -> bool {
         s.done()
     }
-    /// The same precondition as the hierarchy's: Exit only when nothing is left to explore.
+    /// The same preconditions as the hierarchy's: Exit only when nothing is left to explore,
+    /// B only into a cell the map shows free.
     fn available(&self, s: &RescueState, a: usize) -> bool {
-        FLAT_ACTIONS[a] != action::EXIT || !s.targets_remain()
+        match FLAT_ACTIONS[a] {
+            action::EXIT => !s.targets_remain(),
+            action::BACKWARD => s.back_known_free(),
+            _ => true,
+        }
     }
 }
 

@@ -43,10 +43,12 @@ struct BenchReport {
     team_realtime_factor: f64,
     team_run_wall_s: f64,
     /// MAXQ-Q training on paper-000 rubble scenes: primitive steps per second, one core,
-    /// exploration utility, perception (cached per cell and heading), hand-offs and hierarchy
-    /// bookkeeping included; the scenes are generated before the clock starts.
+    /// exploration utility (eq. 7-10 and the path search), map and state updates, hand-offs
+    /// and hierarchy bookkeeping included; the trials are prepared before the clock starts
+    /// (scene generation and every sensor reading, as training prepares them ahead of the
+    /// learner).
     maxq_steps_per_s: f64,
-    /// The same with the generation of the scenes counted (one new scene per trial).
+    /// The same with the preparation of the trials counted (one new scene per trial).
     maxq_steps_per_s_with_scene_generation: f64,
     targets: serde_json::Value,
 }
@@ -115,8 +117,8 @@ fn corners(grid: &NavGrid) -> (Cell, Cell) {
 /// MAXQ-Q training speed (see `BenchReport::maxq_steps_per_s`): a learner warmed up on 100
 /// trials, then timed over 64 further scenes, median of three passes.
 fn maxq_training_speed() -> (f64, f64) {
-    use usar_rescue::training::{TrainConfig, train, training_scene, trial_seed};
-    use usar_rescue::{DomainConfig, RescueDomain, RescueHierarchy};
+    use usar_rescue::training::{PreparedTrial, TrainConfig, prepare_trial, train, trial_seed};
+    use usar_rescue::{RescueDomain, RescueHierarchy};
     let config = TrainConfig {
         trials: 100,
         flat: false,
@@ -125,19 +127,20 @@ fn maxq_training_speed() -> (f64, f64) {
     let (mut learner, _) = train(&config, |_| {});
     let h = RescueHierarchy::new();
     let mut rng = Pcg64Mcg::seed_from_u64(7);
-    let mut learn = |scenes: &[(usar_rescue::RescueScene, (Cell, u8))], base: u32| -> u64 {
+    let mut learn = |trials: &[PreparedTrial], base: u32| -> u64 {
         let mut steps = 0;
-        for (k, (scene, start)) in scenes.iter().enumerate() {
+        for (k, trial) in trials.iter().enumerate() {
             let s = trial_seed(99, base + k as u32);
             let operator =
                 usar_rescue::operator::SimulatedOperator::new(config.operator.clone(), s);
-            let mut d = RescueDomain::new(
-                scene,
-                *start,
+            let mut d = RescueDomain::with_perception(
+                &trial.scene,
+                trial.start,
                 config.weights.clone(),
-                DomainConfig::default(),
+                config.domain.clone(),
                 operator,
                 s,
+                trial.perception.clone(),
             );
             let s0 = d.state();
             steps += learner.learn_episode(&h, &mut d, s0, &mut rng).steps;
@@ -148,10 +151,10 @@ fn maxq_training_speed() -> (f64, f64) {
     let mut with_generation = Vec::new();
     for pass in 0..3u32 {
         let t = Instant::now();
-        let scenes: Vec<_> = (0..64).map(|k| training_scene(99, pass * 64 + k)).collect();
+        let trials: Vec<_> = (0..64).map(|k| prepare_trial(99, pass * 64 + k)).collect();
         let generation_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let steps = learn(&scenes, pass * 64) as f64;
+        let steps = learn(&trials, pass * 64) as f64;
         let learning_s = t.elapsed().as_secs_f64();
         prepared.push(steps / learning_s);
         with_generation.push(steps / (learning_s + generation_s));
