@@ -716,10 +716,19 @@ impl<'a> Explorer<'a> {
         (v, heading)
     }
 
-    /// After a detour: the route resumes at its point nearest the robot among the next
-    /// [`RESUME_WINDOW_M`] of it, then looks [`PATH_LOOK_AHEAD_M`] ahead.
+    /// The route point aimed at: the first one further than [`PATH_LOOK_AHEAD_M`]; during a
+    /// detour, searched from the route point nearest the robot among the next
+    /// [`RESUME_WINDOW_M`] of the route (the detour may have passed some).
     fn advance_route(route: &mut Route, here: Point2) {
         let last = route.waypoints.len() - 1;
+        if route.detour_rad.is_none() {
+            while route.index < last
+                && here.distance(route.waypoints[route.index]) < PATH_LOOK_AHEAD_M
+            {
+                route.index += 1;
+            }
+            return;
+        }
         let mut best = (here.distance(route.waypoints[route.index]), route.index);
         let mut along = 0.0;
         for i in route.index + 1..=last {
