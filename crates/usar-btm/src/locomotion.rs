@@ -1,7 +1,9 @@
 //! Autonomous locomotion (paper 004 §IV): target approach (eqs. 1–3), wall following, the
 //! dead-end turn, branch selection and the central run (eq. 4), and the choice between them
 //! (Fig. 8). Each behaviour turns what the robot perceives, in its own frame (x forward,
-//! y left), into a velocity command.
+//! y left), into a velocity command. One addition for cluttered real floors: the clear-lane
+//! heading ([`free_heading`]) that steers the target approach round furniture while the robot
+//! drives back along a searched link.
 
 use crate::build::scan::{ScanView, SideClearance};
 use serde::{Deserialize, Serialize};

@@ -239,10 +239,12 @@ fn build_on_the_course_reports_nodes_links_and_a_map_100_times_smaller_than_the_
     assert!(csv.lines().count() > 100);
 }
 
-/// Corridor junctions of the Willow Garage floor on the robot's way (read off the map: the
-/// south corridor, y ≈ 21 m, meets the west corridor at x ≈ 20.8 m and the corridor running
-/// south at x ≈ 35.7 m).
-const WILLOW_JUNCTIONS: [(f64, f64); 2] = [(20.8, 21.2), (35.7, 21.0)];
+/// Corridor junctions of the Willow Garage floor (read off `willow-full.pgm`, 0.1 m pixels,
+/// origin at its lower-left corner): the south corridor (y ≈ 20.9 m, x 13–38 m) meets the west
+/// corridor running north at x ≈ 20.8 m and crosses the corridor at x ≈ 35.7 m running south;
+/// the bottom corridor (y ≈ 9.7 m, x 2–34 m) meets the two lanes of the hall west of the
+/// central block (x ≈ 16.9 m and x ≈ 19.4 m) that lead up to the south corridor.
+const WILLOW_JUNCTIONS: [(f64, f64); 4] = [(20.8, 20.9), (35.7, 20.8), (19.4, 9.7), (16.9, 9.7)];
 
 #[test]
 fn build_on_the_real_willow_garage_floor_finds_its_corridor_junctions() {
@@ -282,6 +284,18 @@ fn build_on_the_real_willow_garage_floor_finds_its_corridor_junctions() {
             "junction ({x}, {y}): nearest divergence node {nearest:.2} m away"
         );
     }
+    // A 2-D floor plan has walls and furniture, no slopes or stairs.
+    let kinds = v["nodes_by_kind"].as_object().unwrap();
+    assert!(
+        kinds.keys().all(|k| !k.starts_with("obstacle")),
+        "{kinds:?}"
+    );
+    // The robot gets out of the cluttered rooms it enters and maps the south of the floor.
+    assert!(
+        v["links_searched"].as_u64().unwrap() >= 60,
+        "{}",
+        v["links_searched"]
+    );
     assert!(v["bytes"]["grid_over_binary"].as_f64().unwrap() >= 100.0);
 }
 
