@@ -62,6 +62,8 @@ pub(crate) struct RescueShared {
     pub weights: [f64; 3],
     pub weights_changed: Option<[f64; 3]>,
     pub episodes: u32,
+    /// Tags the robot's domain has carried out (its own and the operator's), all episodes.
+    pub tags: u32,
 }
 
 /// The BTM overlay.
@@ -309,6 +311,7 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
             weights: config.weights,
             weights_changed: None,
             episodes: 0,
+            tags: 0,
         }),
         btm: Mutex::new(BtmShared::default()),
         images: Mutex::new(BTreeMap::new()),

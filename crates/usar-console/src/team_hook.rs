@@ -482,6 +482,7 @@ impl ConsoleHook {
             btm_links: btm.links.len(),
             team_finish: self.finish.clone(),
             maxq_episodes: rescue.episodes,
+            maxq_tags: rescue.tags,
             map_seq: self.map_seq,
         };
         drop(rescue);

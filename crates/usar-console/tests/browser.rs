@@ -236,6 +236,7 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                     .as_bool()
                     .unwrap_or(false);
                 assert!(images, "the thermal and depth images did not load");
+                let tags_before = f["maxq_tags"].as_u64().expect("maxq_tags");
                 button.click().await.expect("clicks Confirm");
                 // The victim is tagged in the mission state.
                 let until = Instant::now() + Duration::from_secs(30);
@@ -248,7 +249,9 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                                 && (v["y"].as_f64().unwrap_or(1e9) - y).abs() < 1e-6
                         })
                     });
-                    if tagged {
+                    // The robot's domain carried out the tag (its count of tags grew), and
+                    // the victim shows as tagged.
+                    if tagged && f["maxq_tags"].as_u64().expect("maxq_tags") > tags_before {
                         break;
                     }
                     assert!(Instant::now() < until, "the confirmed victim was not tagged: {}", f["victims"]);
