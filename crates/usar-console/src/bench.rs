@@ -121,7 +121,10 @@ pub async fn run(
     console.stop().await;
     // Frames counted from connection; rate over the connected time.
     let connected_s = measured_s + 1.0;
-    let rates: Vec<f64> = stats.iter().map(|s| s.frames as f64 / connected_s).collect();
+    let rates: Vec<f64> = stats
+        .iter()
+        .map(|s| s.frames as f64 / connected_s)
+        .collect();
     let n = rates.len().max(1) as f64;
     Ok(BenchReport {
         viewers,
@@ -134,13 +137,19 @@ pub async fn run(
         } else {
             0.0
         },
-        min_frames_per_s: rates.iter().copied().fold(f64::INFINITY, f64::min).min(f64::MAX),
+        min_frames_per_s: rates
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            .min(f64::MAX),
         mean_frames_per_s: rates.iter().sum::<f64>() / n,
         max_frames_per_s: rates.iter().copied().fold(0.0, f64::max),
         max_gap_s: stats.iter().map(|s| s.max_gap_s).fold(0.0, f64::max),
         viewers_receiving_every_second: stats
             .iter()
-            .filter(|s| !s.seconds_with_frames.is_empty() && s.seconds_with_frames.iter().all(|&b| b))
+            .filter(|s| {
+                !s.seconds_with_frames.is_empty() && s.seconds_with_frames.iter().all(|&b| b)
+            })
             .count(),
         load_average: std::fs::read_to_string("/proc/loadavg")
             .ok()

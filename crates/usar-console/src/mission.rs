@@ -344,7 +344,9 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
     if config.btm {
         let shared = shared.clone();
         let (scene, seed, path) = (scene.clone(), config.seed, btm_path.clone());
-        threads.push(std::thread::spawn(move || run_btm(shared, scene, seed, path)));
+        threads.push(std::thread::spawn(move || {
+            run_btm(shared, scene, seed, path)
+        }));
     } else {
         shared.lock_btm().status = "off".into();
     }

@@ -371,9 +371,14 @@ pub(crate) fn run_rescue_robot(
             return;
         }
         // A pause of two simulated seconds before the next episode.
-        if !shared.clock.wait_until(ready.max(shared.clock.now_s()) + 2.0) {
+        if !shared
+            .clock
+            .wait_until(ready.max(shared.clock.now_s()) + 2.0)
+        {
             return;
         }
-        episode_seed = episode_seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
+        episode_seed = episode_seed
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(1);
     }
 }

@@ -54,7 +54,8 @@ impl Pacer {
     }
 
     fn due(&self, sim_s: f64) -> Instant {
-        self.anchor_wall + Duration::from_secs_f64(((sim_s - self.anchor_sim_s) / self.speed).max(0.0))
+        self.anchor_wall
+            + Duration::from_secs_f64(((sim_s - self.anchor_sim_s) / self.speed).max(0.0))
     }
 
     fn measured(&mut self, sim_s: f64) -> f64 {
@@ -138,7 +139,11 @@ impl ConsoleHook {
     }
 
     /// Carries out one command; the error is replied to the sender.
-    fn apply(&mut self, message: ClientMessage, mission: Option<&mut TeamMission>) -> Result<(), String> {
+    fn apply(
+        &mut self,
+        message: ClientMessage,
+        mission: Option<&mut TeamMission>,
+    ) -> Result<(), String> {
         let team_robot = |robot: usize, n: usize| -> Result<usize, String> {
             if (1..=n).contains(&robot) {
                 Ok(robot - 1)
@@ -296,7 +301,11 @@ impl ConsoleHook {
                 )
             })?;
         Ok(PathFollower::new(
-            path.cells.iter().skip(1).map(|&c| g.cell_center(c)).collect(),
+            path.cells
+                .iter()
+                .skip(1)
+                .map(|&c| g.cell_center(c))
+                .collect(),
         ))
     }
 
@@ -342,7 +351,11 @@ impl ConsoleHook {
             .collect();
         let base = mission.base_station();
         let area = base.merged.known_area_m2();
-        if self.explored.last().is_none_or(|s| self.sim_s - s[0] >= 1.0) {
+        if self
+            .explored
+            .last()
+            .is_none_or(|s| self.sim_s - s[0] >= 1.0)
+        {
             self.explored.push([self.sim_s, area]);
         }
         if !publish_map {
@@ -369,7 +382,11 @@ impl ConsoleHook {
                 CellClass::Free => 1,
                 CellClass::Occupied => 2,
             });
-            labels.push(if class == CellClass::Unknown { 0 } else { self.labels[i] });
+            labels.push(if class == CellClass::Unknown {
+                0
+            } else {
+                self.labels[i]
+            });
         }
         let b64 = base64::engine::general_purpose::STANDARD;
         self.team_map = Some((

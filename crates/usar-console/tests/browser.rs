@@ -6,9 +6,9 @@
 
 use crate::common::start_local;
 use fantoccini::key::Key;
-use std::f64::consts::FRAC_PI_2;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{Value, json};
+use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -91,7 +91,10 @@ async fn connect_browser() -> (Driver, Client, tempfile::TempDir) {
         {
             Ok(c) => return (driver, c, profile),
             Err(e) => {
-                assert!(Instant::now() < deadline, "chromedriver/chromium did not start: {e}");
+                assert!(
+                    Instant::now() < deadline,
+                    "chromedriver/chromium did not start: {e}"
+                );
                 tokio::time::sleep(Duration::from_millis(300)).await;
             }
         }
@@ -254,7 +257,11 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                     if tagged && f["maxq_tags"].as_u64().expect("maxq_tags") > tags_before {
                         break;
                     }
-                    assert!(Instant::now() < until, "the confirmed victim was not tagged: {}", f["victims"]);
+                    assert!(
+                        Instant::now() < until,
+                        "the confirmed victim was not tagged: {}",
+                        f["victims"]
+                    );
                     tokio::time::sleep(Duration::from_millis(200)).await;
                 }
                 tagged_victim = Some((x, y));
@@ -279,14 +286,22 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                 let mut k = 0usize;
                 loop {
                     let f = page_frame(&c).await;
-                    if !f["handoffs"].as_array().is_some_and(|h| h.iter().any(|h| h["kind"] == "stuck")) {
+                    if !f["handoffs"]
+                        .as_array()
+                        .is_some_and(|h| h.iter().any(|h| h["kind"] == "stuck"))
+                    {
                         break;
                     }
                     let now = pose(&f, 0).expect("robot 0");
-                    if (now.0 - before.0).hypot(now.1 - before.1) > 1e-6 || (now.2 - before.2).abs() > 1e-6 {
+                    if (now.0 - before.0).hypot(now.1 - before.1) > 1e-6
+                        || (now.2 - before.2).abs() > 1e-6
+                    {
                         moved = true;
                     }
-                    assert!(Instant::now() < until, "robot 0 stayed stuck under the operator's keys");
+                    assert!(
+                        Instant::now() < until,
+                        "robot 0 stayed stuck under the operator's keys"
+                    );
                     map.send_keys(&char::from(operator_key(&f, k)).to_string())
                         .await
                         .expect("a key press");
@@ -294,7 +309,8 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                     tokio::time::sleep(Duration::from_millis(400)).await;
                 }
                 let after = pose(&page_frame(&c).await, 0).expect("robot 0");
-                moved |= (after.0 - before.0).hypot(after.1 - before.1) > 1e-6 || (after.2 - before.2).abs() > 1e-6;
+                moved |= (after.0 - before.0).hypot(after.1 - before.1) > 1e-6
+                    || (after.2 - before.2).abs() > 1e-6;
                 assert!(moved, "robot 0 did not move under the operator's keys");
                 if !drove {
                     screenshot(&c, "06-driven-by-keys").await;
