@@ -66,6 +66,9 @@ pub(crate) struct RescueShared {
     pub tags: u32,
 }
 
+/// Per hand-off: its thermal and depth images (PNG).
+pub(crate) type HandOffImages = BTreeMap<u64, (Vec<u8>, Vec<u8>)>;
+
 /// The BTM overlay.
 #[derive(Default)]
 pub(crate) struct BtmShared {
@@ -79,7 +82,7 @@ pub struct Shared {
     pub clock: MissionClock,
     pub(crate) rescue: Mutex<RescueShared>,
     pub(crate) btm: Mutex<BtmShared>,
-    pub(crate) images: Mutex<BTreeMap<u64, (Vec<u8>, Vec<u8>)>>,
+    pub(crate) images: Mutex<HandOffImages>,
     pub(crate) next_handoff: AtomicU64,
     /// Simulation steps of the team so far.
     pub steps: AtomicU64,
@@ -102,7 +105,7 @@ impl Shared {
         lock(&self.btm)
     }
 
-    pub(crate) fn lock_images(&self) -> MutexGuard<'_, BTreeMap<u64, (Vec<u8>, Vec<u8>)>> {
+    pub(crate) fn lock_images(&self) -> MutexGuard<'_, HandOffImages> {
         lock(&self.images)
     }
 

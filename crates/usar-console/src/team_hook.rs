@@ -424,24 +424,25 @@ impl ConsoleHook {
             btm.nodes.len() + btm.links.len(),
         );
         let mut maps = None;
-        if map_state != self.map_state && self.last_map.elapsed() >= MAP_PERIOD {
-            if let Some((team_map, _, _)) = &self.team_map {
-                self.map_state = map_state;
-                self.last_map = Instant::now();
-                self.map_seq += 1;
-                let b64 = base64::engine::general_purpose::STANDARD;
-                let mut m = team_map.clone();
-                m.seq = self.map_seq;
-                m.cell_cols = rescue.cell_cols;
-                m.cell_rows = rescue.cell_rows;
-                m.cell_size_m = rescue.cell_size_m;
-                m.cell_origin = rescue.cell_origin;
-                m.cell_map = b64.encode(&rescue.cell_map);
-                m.btm_nodes = btm.nodes.clone();
-                m.btm_links = btm.links.clone();
-                m.explored = self.explored.clone();
-                maps = Some(m);
-            }
+        if map_state != self.map_state
+            && self.last_map.elapsed() >= MAP_PERIOD
+            && let Some((team_map, _, _)) = &self.team_map
+        {
+            self.map_state = map_state;
+            self.last_map = Instant::now();
+            self.map_seq += 1;
+            let b64 = base64::engine::general_purpose::STANDARD;
+            let mut m = team_map.clone();
+            m.seq = self.map_seq;
+            m.cell_cols = rescue.cell_cols;
+            m.cell_rows = rescue.cell_rows;
+            m.cell_size_m = rescue.cell_size_m;
+            m.cell_origin = rescue.cell_origin;
+            m.cell_map = b64.encode(&rescue.cell_map);
+            m.btm_nodes = btm.nodes.clone();
+            m.btm_links = btm.links.clone();
+            m.explored = self.explored.clone();
+            maps = Some(m);
         }
         let mut robots = Vec::with_capacity(self.team.len() + 1);
         robots.push(RobotView {
