@@ -2,6 +2,7 @@
 
 mod btm;
 mod campaign;
+mod console;
 mod maxq;
 mod segment;
 

@@ -22,6 +22,10 @@ pub struct BenchReport {
     pub speed_with_viewers: f64,
     /// speed_with_viewers / speed_without_viewers − 1.
     pub speed_change: f64,
+    /// The team simulation's steps per wall-clock second in each measurement (0 once the
+    /// team's mission has ended and only the clock and the MAXQ robot go on).
+    pub team_steps_per_s_without_viewers: f64,
+    pub team_steps_per_s_with_viewers: f64,
     /// Frames per second received: the slowest viewer, the mean, the fastest.
     pub min_frames_per_s: f64,
     pub mean_frames_per_s: f64,
@@ -74,14 +78,17 @@ async fn viewer(url: String, stop: Arc<AtomicBool>, start: Instant, seconds: usi
     stats
 }
 
-/// The simulation's speed over `seconds` of wall-clock time.
-async fn measure_speed(console: &crate::RunningConsole, seconds: f64) -> f64 {
+/// The simulation's speed (simulated s per wall s) and the team's steps per wall second over
+/// `seconds` of wall-clock time.
+async fn measure_speed(console: &crate::RunningConsole, seconds: f64) -> (f64, f64) {
     let Some(shared) = console.shared() else {
-        return 0.0;
+        return (0.0, 0.0);
     };
-    let (t0, s0) = (Instant::now(), shared.clock.now_s());
+    let steps = || shared.steps.load(Ordering::Relaxed) as f64;
+    let (t0, s0, n0) = (Instant::now(), shared.clock.now_s(), steps());
     tokio::time::sleep(Duration::from_secs_f64(seconds)).await;
-    (shared.clock.now_s() - s0) / t0.elapsed().as_secs_f64()
+    let wall = t0.elapsed().as_secs_f64();
+    ((shared.clock.now_s() - s0) / wall, (steps() - n0) / wall)
 }
 
 /// Runs the bench on a fresh local console.
@@ -94,7 +101,8 @@ pub async fn run(
     let console = start(ConsoleConfig::local(mission)).await?;
     // Warm-up: the first frames, the first map.
     tokio::time::sleep(Duration::from_secs(2)).await;
-    let speed_without_viewers = measure_speed(&console, seconds).await;
+    let (speed_without_viewers, team_steps_per_s_without_viewers) =
+        measure_speed(&console, seconds).await;
     let url = format!("ws://{}/ws", console.addr);
     let stop = Arc::new(AtomicBool::new(false));
     let whole = seconds.ceil() as usize;
@@ -111,7 +119,8 @@ pub async fn run(
         .collect();
     tokio::time::sleep(Duration::from_secs(1)).await;
     let measured_from = Instant::now();
-    let speed_with_viewers = measure_speed(&console, seconds).await;
+    let (speed_with_viewers, team_steps_per_s_with_viewers) =
+        measure_speed(&console, seconds).await;
     let measured_s = measured_from.elapsed().as_secs_f64();
     stop.store(true, Ordering::Relaxed);
     let mut stats = Vec::new();
@@ -121,7 +130,10 @@ pub async fn run(
     console.stop().await;
     // Frames counted from connection; rate over the connected time.
     let connected_s = measured_s + 1.0;
-    let rates: Vec<f64> = stats.iter().map(|s| s.frames as f64 / connected_s).collect();
+    let rates: Vec<f64> = stats
+        .iter()
+        .map(|s| s.frames as f64 / connected_s)
+        .collect();
     let n = rates.len().max(1) as f64;
     Ok(BenchReport {
         viewers,
@@ -134,13 +146,21 @@ pub async fn run(
         } else {
             0.0
         },
-        min_frames_per_s: rates.iter().copied().fold(f64::INFINITY, f64::min).min(f64::MAX),
+        team_steps_per_s_without_viewers,
+        team_steps_per_s_with_viewers,
+        min_frames_per_s: rates
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            .min(f64::MAX),
         mean_frames_per_s: rates.iter().sum::<f64>() / n,
         max_frames_per_s: rates.iter().copied().fold(0.0, f64::max),
         max_gap_s: stats.iter().map(|s| s.max_gap_s).fold(0.0, f64::max),
         viewers_receiving_every_second: stats
             .iter()
-            .filter(|s| !s.seconds_with_frames.is_empty() && s.seconds_with_frames.iter().all(|&b| b))
+            .filter(|s| {
+                !s.seconds_with_frames.is_empty() && s.seconds_with_frames.iter().all(|&b| b)
+            })
             .count(),
         load_average: std::fs::read_to_string("/proc/loadavg")
             .ok()

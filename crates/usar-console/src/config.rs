@@ -118,7 +118,10 @@ impl MissionConfig {
             message: m,
         };
         if !(self.speed.is_finite() && self.speed > 0.0 && self.speed <= 1000.0) {
-            return Err(field("speed", format!("found {}, expected 0 < speed ≤ 1000", self.speed)));
+            return Err(field(
+                "speed",
+                format!("found {}, expected 0 < speed ≤ 1000", self.speed),
+            ));
         }
         if !(0.0..=1.0).contains(&self.slip_probability) {
             return Err(field(
@@ -127,10 +130,16 @@ impl MissionConfig {
             ));
         }
         if self.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
-            return Err(field("weights", "expected three non-negative numbers".into()));
+            return Err(field(
+                "weights",
+                "expected three non-negative numbers".into(),
+            ));
         }
         if !(self.minutes.is_finite() && self.minutes > 0.0) {
-            return Err(field("minutes", format!("found {}, expected > 0", self.minutes)));
+            return Err(field(
+                "minutes",
+                format!("found {}, expected > 0", self.minutes),
+            ));
         }
         if usar_team::criteria::Hypothesis::named(&self.hypothesis).is_none() {
             return Err(field(

@@ -51,7 +51,9 @@ pub fn thermal_png(scene: &Scene, centre: Point2, cell_m: f64) -> Vec<u8> {
                 .iter()
                 .map(|h| (h.position, h.heat_c, h.size_m2)),
         )
-        .filter(|(p, _, _)| (p.x - centre.x).abs() < 2.0 * half && (p.y - centre.y).abs() < 2.0 * half)
+        .filter(|(p, _, _)| {
+            (p.x - centre.x).abs() < 2.0 * half && (p.y - centre.y).abs() < 2.0 * half
+        })
         .collect();
     let mut rgb = Vec::with_capacity((SIDE_PX * SIDE_PX * 3) as usize);
     for py in 0..SIDE_PX {
@@ -82,8 +84,12 @@ pub fn depth_png(scene: &Scene, from: Point2, heading: u8, cell_m: f64) -> Vec<u
     let (fx, fy) = (angle.cos(), angle.sin());
     let (lx, ly) = (-fy, fx);
     let floor = |p: Point2| {
-        g.checked_index(g.world_to_cell(p))
-            .map(|i| (scene.floor_height_m.as_slice()[i], scene.obstacle.as_slice()[i]))
+        g.checked_index(g.world_to_cell(p)).map(|i| {
+            (
+                scene.floor_height_m.as_slice()[i],
+                scene.obstacle.as_slice()[i],
+            )
+        })
     };
     let base = floor(from).map_or(0.0, |(h, _)| f64::from(h));
     let mut rgb = Vec::with_capacity((SIDE_PX * SIDE_PX * 3) as usize);
@@ -92,7 +98,10 @@ pub fn depth_png(scene: &Scene, from: Point2, heading: u8, cell_m: f64) -> Vec<u
             // Image up = ahead (0.5 to 2.5 cells), image left/right = the robot's left/right.
             let ahead = (0.5 + 2.0 * (1.0 - (f64::from(py) + 0.5) / f64::from(SIDE_PX))) * cell_m;
             let side = (0.5 - (f64::from(px) + 0.5) / f64::from(SIDE_PX)) * 1.5 * cell_m;
-            let p = Point2::new(from.x + ahead * fx + side * lx, from.y + ahead * fy + side * ly);
+            let p = Point2::new(
+                from.x + ahead * fx + side * lx,
+                from.y + ahead * fy + side * ly,
+            );
             let colour = match floor(p) {
                 None => [40, 40, 60],
                 Some((_, o)) if o != 0 => [190, 40, 40],

@@ -62,7 +62,12 @@ pub(crate) struct RescueShared {
     pub weights: [f64; 3],
     pub weights_changed: Option<[f64; 3]>,
     pub episodes: u32,
+    /// Tags the robot's domain has carried out (its own and the operator's), all episodes.
+    pub tags: u32,
 }
+
+/// Per hand-off: its thermal and depth images (PNG).
+pub(crate) type HandOffImages = BTreeMap<u64, (Vec<u8>, Vec<u8>)>;
 
 /// The BTM overlay.
 #[derive(Default)]
@@ -77,7 +82,7 @@ pub struct Shared {
     pub clock: MissionClock,
     pub(crate) rescue: Mutex<RescueShared>,
     pub(crate) btm: Mutex<BtmShared>,
-    pub(crate) images: Mutex<BTreeMap<u64, (Vec<u8>, Vec<u8>)>>,
+    pub(crate) images: Mutex<HandOffImages>,
     pub(crate) next_handoff: AtomicU64,
     /// Simulation steps of the team so far.
     pub steps: AtomicU64,
@@ -100,7 +105,7 @@ impl Shared {
         lock(&self.btm)
     }
 
-    pub(crate) fn lock_images(&self) -> MutexGuard<'_, BTreeMap<u64, (Vec<u8>, Vec<u8>)>> {
+    pub(crate) fn lock_images(&self) -> MutexGuard<'_, HandOffImages> {
         lock(&self.images)
     }
 
@@ -309,6 +314,7 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
             weights: config.weights,
             weights_changed: None,
             episodes: 0,
+            tags: 0,
         }),
         btm: Mutex::new(BtmShared::default()),
         images: Mutex::new(BTreeMap::new()),
@@ -341,7 +347,9 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
     if config.btm {
         let shared = shared.clone();
         let (scene, seed, path) = (scene.clone(), config.seed, btm_path.clone());
-        threads.push(std::thread::spawn(move || run_btm(shared, scene, seed, path)));
+        threads.push(std::thread::spawn(move || {
+            run_btm(shared, scene, seed, path)
+        }));
     } else {
         shared.lock_btm().status = "off".into();
     }

@@ -190,6 +190,8 @@ struct PacedDomain<'a> {
     scene: &'a RescueScene,
     robot_step_s: f64,
     ready_at_s: f64,
+    /// Tags (right or wrong) of the earlier episodes.
+    tags_before: u32,
 }
 
 impl PacedDomain<'_> {
@@ -219,6 +221,7 @@ impl PacedDomain<'_> {
             f64::from(self.inner.robot.heading) * std::f64::consts::FRAC_PI_2,
         ];
         r.task = task.into();
+        r.tags = self.tags_before + self.inner.stats.victims_found + self.inner.stats.false_tags;
         if r.handoff.is_some_and_kind("stuck") && !state.stuck() {
             r.handoff = None;
             r.mode = "autonomous";
@@ -346,6 +349,7 @@ pub(crate) fn run_rescue_robot(
             scene: &scene,
             robot_step_s: config.robot_step_s,
             ready_at_s: shared.clock.now_s(),
+            tags_before: shared.lock_rescue().tags,
         };
         paced.publish();
         let s0 = paced.inner.state();
@@ -367,9 +371,14 @@ pub(crate) fn run_rescue_robot(
             return;
         }
         // A pause of two simulated seconds before the next episode.
-        if !shared.clock.wait_until(ready.max(shared.clock.now_s()) + 2.0) {
+        if !shared
+            .clock
+            .wait_until(ready.max(shared.clock.now_s()) + 2.0)
+        {
             return;
         }
-        episode_seed = episode_seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
+        episode_seed = episode_seed
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(1);
     }
 }

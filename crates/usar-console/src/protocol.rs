@@ -90,7 +90,9 @@ impl ClientMessage {
                 if factor.is_finite() && *factor > 0.0 && *factor <= 1000.0 {
                     Ok(())
                 } else {
-                    Err(format!("speed factor: found {factor}, expected 0 < factor ≤ 1000"))
+                    Err(format!(
+                        "speed factor: found {factor}, expected 0 < factor ≤ 1000"
+                    ))
                 }
             }
             ClientMessage::Teleop {
@@ -142,6 +144,7 @@ pub enum ServerMessage {
 
 impl ServerMessage {
     pub fn to_text(&self) -> String {
-        serde_json::to_string(self).unwrap_or_else(|_| r#"{"type":"error","message":"internal"}"#.into())
+        serde_json::to_string(self)
+            .unwrap_or_else(|_| r#"{"type":"error","message":"internal"}"#.into())
     }
 }

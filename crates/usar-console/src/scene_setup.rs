@@ -2,10 +2,10 @@
 //! layer (semantic labels); a scene without one gets four zones, its quadrants, labelled by
 //! their floor area as the generators label rooms.
 
-use usar_world::generate::{RubbleParams, generate_rubble};
 use std::sync::Arc;
 use usar_sim::Simulation;
 use usar_team::TeamConfig;
+use usar_world::generate::{RubbleParams, generate_rubble};
 use usar_world::{Grid, Pose2, Room, RoomId, RoomLabel, RoomSizeThresholds, Scene};
 
 /// The default scene: a rubble floor of paper 000 §VI (20 × 20 cells, victims, heat sources).
@@ -90,10 +90,7 @@ pub fn with_team_starts(scene: &Scene, config: &TeamConfig) -> Scene {
     if poses.len() < config.robots {
         let g = scene.geometry();
         let (w, h) = g.extent_m();
-        let anchor = scene
-            .start_poses
-            .first()
-            .map_or(g.origin, |p| p.position());
+        let anchor = scene.start_poses.first().map_or(g.origin, |p| p.position());
         let mut lattice = Vec::new();
         let mut y = g.origin.y + 0.5;
         while y < g.origin.y + h {
@@ -113,7 +110,11 @@ pub fn with_team_starts(scene: &Scene, config: &TeamConfig) -> Scene {
             if poses.len() >= config.robots {
                 break;
             }
-            if poses.iter().all(|q| q.position().distance(p.position()) > 0.9) && fits(p) {
+            if poses
+                .iter()
+                .all(|q| q.position().distance(p.position()) > 0.9)
+                && fits(p)
+            {
                 poses.push(p);
             }
         }

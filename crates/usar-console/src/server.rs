@@ -155,9 +155,18 @@ pub async fn start(config: ConsoleConfig) -> Result<RunningConsole, ConsoleError
 
 fn router(state: AppState) -> Router {
     Router::new()
-        .route("/", get(|| async { static_file("text/html; charset=utf-8", INDEX_HTML) }))
-        .route("/app.js", get(|| async { static_file("text/javascript; charset=utf-8", APP_JS) }))
-        .route("/style.css", get(|| async { static_file("text/css; charset=utf-8", STYLE_CSS) }))
+        .route(
+            "/",
+            get(|| async { static_file("text/html; charset=utf-8", INDEX_HTML) }),
+        )
+        .route(
+            "/app.js",
+            get(|| async { static_file("text/javascript; charset=utf-8", APP_JS) }),
+        )
+        .route(
+            "/style.css",
+            get(|| async { static_file("text/css; charset=utf-8", STYLE_CSS) }),
+        )
         .route("/ws", get(ws_upgrade))
         .route("/api/state", get(latest_frame))
         .route("/api/map", get(latest_map))
@@ -167,7 +176,14 @@ fn router(state: AppState) -> Router {
 }
 
 fn static_file(content_type: &'static str, body: &'static str) -> Response {
-    ([(header::CONTENT_TYPE, content_type), (header::CACHE_CONTROL, "no-cache")], body).into_response()
+    (
+        [
+            (header::CONTENT_TYPE, content_type),
+            (header::CACHE_CONTROL, "no-cache"),
+        ],
+        body,
+    )
+        .into_response()
 }
 
 fn json(status: StatusCode, body: String) -> Response {
@@ -184,7 +200,10 @@ async fn latest_map(State(s): State<AppState>) -> Response {
     json(StatusCode::OK, text.to_string())
 }
 
-async fn handoff_image(State(s): State<AppState>, Path((id, which)): Path<(u64, String)>) -> Response {
+async fn handoff_image(
+    State(s): State<AppState>,
+    Path((id, which)): Path<(u64, String)>,
+) -> Response {
     match s.shared.image(id, &which) {
         Some(png) => ([(header::CONTENT_TYPE, "image/png")], png).into_response(),
         None => (StatusCode::NOT_FOUND, "no such hand-off image").into_response(),
@@ -201,7 +220,9 @@ async fn control(State(s): State<AppState>, headers: HeaderMap, body: String) ->
         return json(
             StatusCode::UNAUTHORIZED,
             ServerMessage::Error {
-                message: "unauthorized: control needs the access token (Authorization: Bearer TOKEN)".into(),
+                message:
+                    "unauthorized: control needs the access token (Authorization: Bearer TOKEN)"
+                        .into(),
             }
             .to_text(),
         );

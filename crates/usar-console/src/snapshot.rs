@@ -77,6 +77,8 @@ pub struct Frame {
     pub team_finish: Option<String>,
     /// The MAXQ robot's episodes so far (a new one starts when it exits early).
     pub maxq_episodes: u32,
+    /// Tags the MAXQ robot's domain carried out (its own and those the operator confirmed).
+    pub maxq_tags: u32,
     /// Version of the latest map message.
     pub map_seq: u64,
 }

@@ -54,7 +54,8 @@ impl Pacer {
     }
 
     fn due(&self, sim_s: f64) -> Instant {
-        self.anchor_wall + Duration::from_secs_f64(((sim_s - self.anchor_sim_s) / self.speed).max(0.0))
+        self.anchor_wall
+            + Duration::from_secs_f64(((sim_s - self.anchor_sim_s) / self.speed).max(0.0))
     }
 
     fn measured(&mut self, sim_s: f64) -> f64 {
@@ -138,7 +139,11 @@ impl ConsoleHook {
     }
 
     /// Carries out one command; the error is replied to the sender.
-    fn apply(&mut self, message: ClientMessage, mission: Option<&mut TeamMission>) -> Result<(), String> {
+    fn apply(
+        &mut self,
+        message: ClientMessage,
+        mission: Option<&mut TeamMission>,
+    ) -> Result<(), String> {
         let team_robot = |robot: usize, n: usize| -> Result<usize, String> {
             if (1..=n).contains(&robot) {
                 Ok(robot - 1)
@@ -296,7 +301,11 @@ impl ConsoleHook {
                 )
             })?;
         Ok(PathFollower::new(
-            path.cells.iter().skip(1).map(|&c| g.cell_center(c)).collect(),
+            path.cells
+                .iter()
+                .skip(1)
+                .map(|&c| g.cell_center(c))
+                .collect(),
         ))
     }
 
@@ -342,7 +351,11 @@ impl ConsoleHook {
             .collect();
         let base = mission.base_station();
         let area = base.merged.known_area_m2();
-        if self.explored.last().is_none_or(|s| self.sim_s - s[0] >= 1.0) {
+        if self
+            .explored
+            .last()
+            .is_none_or(|s| self.sim_s - s[0] >= 1.0)
+        {
             self.explored.push([self.sim_s, area]);
         }
         if !publish_map {
@@ -369,7 +382,11 @@ impl ConsoleHook {
                 CellClass::Free => 1,
                 CellClass::Occupied => 2,
             });
-            labels.push(if class == CellClass::Unknown { 0 } else { self.labels[i] });
+            labels.push(if class == CellClass::Unknown {
+                0
+            } else {
+                self.labels[i]
+            });
         }
         let b64 = base64::engine::general_purpose::STANDARD;
         self.team_map = Some((
@@ -407,24 +424,25 @@ impl ConsoleHook {
             btm.nodes.len() + btm.links.len(),
         );
         let mut maps = None;
-        if map_state != self.map_state && self.last_map.elapsed() >= MAP_PERIOD {
-            if let Some((team_map, _, _)) = &self.team_map {
-                self.map_state = map_state;
-                self.last_map = Instant::now();
-                self.map_seq += 1;
-                let b64 = base64::engine::general_purpose::STANDARD;
-                let mut m = team_map.clone();
-                m.seq = self.map_seq;
-                m.cell_cols = rescue.cell_cols;
-                m.cell_rows = rescue.cell_rows;
-                m.cell_size_m = rescue.cell_size_m;
-                m.cell_origin = rescue.cell_origin;
-                m.cell_map = b64.encode(&rescue.cell_map);
-                m.btm_nodes = btm.nodes.clone();
-                m.btm_links = btm.links.clone();
-                m.explored = self.explored.clone();
-                maps = Some(m);
-            }
+        if map_state != self.map_state
+            && self.last_map.elapsed() >= MAP_PERIOD
+            && let Some((team_map, _, _)) = &self.team_map
+        {
+            self.map_state = map_state;
+            self.last_map = Instant::now();
+            self.map_seq += 1;
+            let b64 = base64::engine::general_purpose::STANDARD;
+            let mut m = team_map.clone();
+            m.seq = self.map_seq;
+            m.cell_cols = rescue.cell_cols;
+            m.cell_rows = rescue.cell_rows;
+            m.cell_size_m = rescue.cell_size_m;
+            m.cell_origin = rescue.cell_origin;
+            m.cell_map = b64.encode(&rescue.cell_map);
+            m.btm_nodes = btm.nodes.clone();
+            m.btm_links = btm.links.clone();
+            m.explored = self.explored.clone();
+            maps = Some(m);
         }
         let mut robots = Vec::with_capacity(self.team.len() + 1);
         robots.push(RobotView {
@@ -482,6 +500,7 @@ impl ConsoleHook {
             btm_links: btm.links.len(),
             team_finish: self.finish.clone(),
             maxq_episodes: rescue.episodes,
+            maxq_tags: rescue.tags,
             map_seq: self.map_seq,
         };
         drop(rescue);

@@ -8,6 +8,7 @@ use crate::common::start_local;
 use fantoccini::key::Key;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{Value, json};
+use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -74,7 +75,7 @@ async fn connect_browser() -> (Driver, Client, tempfile::TempDir) {
             "args": [
                 "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                "--disable-dev-shm-usage", "--window-size=1280,1000",
+                "--disable-dev-shm-usage", "--window-size=1400,1100",
                 format!("--user-data-dir={}", profile.path().display()),
             ]
         }
@@ -90,7 +91,10 @@ async fn connect_browser() -> (Driver, Client, tempfile::TempDir) {
         {
             Ok(c) => return (driver, c, profile),
             Err(e) => {
-                assert!(Instant::now() < deadline, "chromedriver/chromium did not start: {e}");
+                assert!(
+                    Instant::now() < deadline,
+                    "chromedriver/chromium did not start: {e}"
+                );
                 tokio::time::sleep(Duration::from_millis(300)).await;
             }
         }
@@ -111,6 +115,31 @@ fn robot(frame: &Value, id: u64) -> Option<&Value> {
 fn pose(frame: &Value, id: u64) -> Option<(f64, f64, f64)> {
     let r = robot(frame, id)?;
     Some((r["x"].as_f64()?, r["y"].as_f64()?, r["theta"].as_f64()?))
+}
+
+/// What a sensible person presses for a stuck robot, from what the page shows: face a
+/// pending victim lying next to it (the robot then measures it), otherwise try to get it moving
+/// (backward, forward, turns).
+fn operator_key(frame: &Value, k: usize) -> Key {
+    let Some((x, y, theta)) = pose(frame, 0) else {
+        return Key::Up;
+    };
+    let quarter = |a: f64| ((a / FRAC_PI_2).round() as i64).rem_euclid(4);
+    let heading = quarter(theta);
+    let adjacent = frame["victims"].as_array().and_then(|vs| {
+        vs.iter()
+            .filter(|v| v["status"] == "pending")
+            .filter_map(|v| Some((v["x"].as_f64()? - x, v["y"].as_f64()? - y)))
+            .find(|(dx, dy)| dx.hypot(*dy) < 1.2)
+    });
+    if let Some((dx, dy)) = adjacent {
+        match (quarter(dy.atan2(dx)) - heading).rem_euclid(4) {
+            0 => {}
+            3 => return Key::Right,
+            _ => return Key::Left,
+        }
+    }
+    [Key::Down, Key::Up, Key::Left, Key::Up, Key::Right, Key::Up][k % 6]
 }
 
 /// The end-to-end mission: fast, slippery (the MAXQ robot gets stuck), no BTM (speed), and
@@ -210,6 +239,7 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                     .as_bool()
                     .unwrap_or(false);
                 assert!(images, "the thermal and depth images did not load");
+                let tags_before = f["maxq_tags"].as_u64().expect("maxq_tags");
                 button.click().await.expect("clicks Confirm");
                 // The victim is tagged in the mission state.
                 let until = Instant::now() + Duration::from_secs(30);
@@ -222,17 +252,27 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                                 && (v["y"].as_f64().unwrap_or(1e9) - y).abs() < 1e-6
                         })
                     });
-                    if tagged {
+                    // The robot's domain carried out the tag (its count of tags grew), and
+                    // the victim shows as tagged.
+                    if tagged && f["maxq_tags"].as_u64().expect("maxq_tags") > tags_before {
                         break;
                     }
-                    assert!(Instant::now() < until, "the confirmed victim was not tagged: {}", f["victims"]);
+                    assert!(
+                        Instant::now() < until,
+                        "the confirmed victim was not tagged: {}",
+                        f["victims"]
+                    );
                     tokio::time::sleep(Duration::from_millis(200)).await;
                 }
                 tagged_victim = Some((x, y));
                 screenshot(&c, "04-victim-tagged").await;
             }
-            Some(h) if h["kind"] == "stuck" && !drove => {
-                screenshot(&c, "05-robot-stuck").await;
+            Some(h) if h["kind"] == "stuck" => {
+                // The first time with screenshots; later the robot is driven on the same way
+                // (a stuck robot waits for its operator).
+                if !drove {
+                    screenshot(&c, "05-robot-stuck").await;
+                }
                 let before = pose(&f, 0).expect("robot 0");
                 c.find(Locator::Css("button.take"))
                     .await
@@ -241,20 +281,41 @@ async fn a_person_in_chromium_sees_robots_move_answers_a_victim_and_drives_a_stu
                     .await
                     .expect("clicks Take over");
                 let map = c.find(Locator::Id("map")).await.expect("the map");
-                let until = Instant::now() + Duration::from_secs(30);
-                let mut keys = [Key::Left, Key::Up, Key::Right, Key::Up].into_iter().cycle();
+                let until = Instant::now() + Duration::from_secs(60);
+                let mut moved = false;
+                let mut k = 0usize;
                 loop {
-                    let key = keys.next().expect("cycles");
-                    map.send_keys(&char::from(key).to_string()).await.expect("a key press");
-                    tokio::time::sleep(Duration::from_millis(400)).await;
-                    let now = pose(&page_frame(&c).await, 0).expect("robot 0");
-                    if (now.0 - before.0).hypot(now.1 - before.1) > 1e-6 || (now.2 - before.2).abs() > 1e-6 {
+                    let f = page_frame(&c).await;
+                    if !f["handoffs"]
+                        .as_array()
+                        .is_some_and(|h| h.iter().any(|h| h["kind"] == "stuck"))
+                    {
                         break;
                     }
-                    assert!(Instant::now() < until, "robot 0 did not move under the operator's keys");
+                    let now = pose(&f, 0).expect("robot 0");
+                    if (now.0 - before.0).hypot(now.1 - before.1) > 1e-6
+                        || (now.2 - before.2).abs() > 1e-6
+                    {
+                        moved = true;
+                    }
+                    assert!(
+                        Instant::now() < until,
+                        "robot 0 stayed stuck under the operator's keys"
+                    );
+                    map.send_keys(&char::from(operator_key(&f, k)).to_string())
+                        .await
+                        .expect("a key press");
+                    k += 1;
+                    tokio::time::sleep(Duration::from_millis(400)).await;
+                }
+                let after = pose(&page_frame(&c).await, 0).expect("robot 0");
+                moved |= (after.0 - before.0).hypot(after.1 - before.1) > 1e-6
+                    || (after.2 - before.2).abs() > 1e-6;
+                assert!(moved, "robot 0 did not move under the operator's keys");
+                if !drove {
+                    screenshot(&c, "06-driven-by-keys").await;
                 }
                 drove = true;
-                screenshot(&c, "06-driven-by-keys").await;
             }
             _ => tokio::time::sleep(Duration::from_millis(200)).await,
         }

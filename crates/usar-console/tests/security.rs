@@ -68,7 +68,9 @@ async fn control_without_the_token_is_refused_and_changes_nothing() {
         .await
         .expect("sends");
     assert_eq!(reply(&mut ws).await["type"], "error");
-    ws.send(Message::Text(CONTROLS[0].into())).await.expect("sends");
+    ws.send(Message::Text(CONTROLS[0].into()))
+        .await
+        .expect("sends");
     assert_eq!(reply(&mut ws).await["type"], "error");
 
     tokio::time::sleep(Duration::from_millis(500)).await;
@@ -79,7 +81,10 @@ async fn control_without_the_token_is_refused_and_changes_nothing() {
     assert_eq!(after.hypothesis, before.hypothesis);
     assert!(after.time_s > before.time_s, "the mission went on");
     assert!(
-        after.robots.iter().all(|r| r.mode == "autonomous" || r.id == 0),
+        after
+            .robots
+            .iter()
+            .all(|r| r.mode == "autonomous" || r.id == 0),
         "no team robot was teleoperated: {:?}",
         after.robots
     );
