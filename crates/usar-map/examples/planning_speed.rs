@@ -110,6 +110,7 @@ fn main() {
         &BuildingParams {
             width_m: 100.0,
             height_m: 100.0,
+            resolution_m: 0.1,
             ..BuildingParams::office()
         },
     );

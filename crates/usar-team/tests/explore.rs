@@ -45,9 +45,13 @@ fn walled_floor(w: f64, h: f64, walls: &[(f64, f64, f64, f64)], start: Pose2) ->
 
 /// A 32 × 22 m office (seed 3), small enough for quick missions.
 pub(super) fn small_office() -> Scene {
+    // Rooms of the sizes a 32 × 22 m floor holds (the default office's big rooms are
+    // 150–230 m²), so that it has big rooms too.
     let params = BuildingParams {
         width_m: 32.0,
         height_m: 22.0,
+        medium_room_m2: usar_world::generate::AreaRange::new(33.0, 50.0),
+        big_room_m2: usar_world::generate::AreaRange::new(110.0, 150.0),
         ..BuildingParams::office()
     };
     generate_office(3, &params)

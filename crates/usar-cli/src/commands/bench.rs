@@ -71,6 +71,7 @@ pub fn bench_scene() -> Scene {
         &BuildingParams {
             width_m: 100.0,
             height_m: 100.0,
+            resolution_m: 0.1,
             ..BuildingParams::office()
         },
     )

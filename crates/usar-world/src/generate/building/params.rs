@@ -597,7 +597,7 @@ mod tests {
         assert!(message.contains("width_m"), "{message}");
         let fixed = p.sanitized();
         fixed.check().unwrap();
-        assert_eq!(fixed.width_m, 80.0);
+        assert_eq!(fixed.width_m, BuildingParams::office().width_m);
         assert_eq!(fixed.resolution_m, 0.02);
         let huge = BuildingParams {
             width_m: 1e9,
