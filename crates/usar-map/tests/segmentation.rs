@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use usar_map::segmentation::evaluate::{
-    score_classes, score_rooms, truth_classes_from_image, truth_rooms_from_image,
+    scene_truth, score_classes, score_rooms, truth_classes_from_image, truth_rooms_from_image,
 };
 use usar_map::segmentation::{SegmentationParams, segment_free_space, segment_scene};
 use usar_world::io::image_map::decode_image;
@@ -41,22 +41,6 @@ fn intel_free() -> Grid<bool> {
     .expect("one flag per pixel")
 }
 
-fn layer(seg: &usar_map::segmentation::Segmentation) -> Vec<u32> {
-    seg.room_id
-        .as_slice()
-        .iter()
-        .map(|&l| u32::from(l))
-        .collect()
-}
-
-fn classes(seg: &usar_map::segmentation::Segmentation) -> Vec<Option<bool>> {
-    seg.room_id
-        .as_slice()
-        .iter()
-        .map(|&l| (l != 0).then(|| seg.segments[usize::from(l) - 1].label == RoomLabel::Corridor))
-        .collect()
-}
-
 /// Bormann et al. 2016's Intel lab ground truth (26 rooms and a ring corridor). Measured with
 /// the default parameters: recall 0.975, precision 0.923, best-match Jaccard 0.727, room vs
 /// corridor pixel accuracy 0.897. The bounds sit a few points below, so that a regression of the
@@ -68,9 +52,9 @@ fn intel_lab_segmentation_matches_the_ground_truth() {
     let free = intel_free();
     let seg = segment_free_space(&free, &SegmentationParams::default());
     let truth = truth_rooms_from_image(&decode("lab_intel_gt_segmentation.png"));
-    let rooms = score_rooms(&layer(&seg), &truth);
+    let rooms = score_rooms(&seg.labels(), &truth);
     let classes = score_classes(
-        &classes(&seg),
+        &seg.corridor_classes(),
         &truth_classes_from_image(&decode("training_intel.png")),
     );
     assert_eq!(rooms.truth_rooms, 26, "the ground truth's rooms");
@@ -88,22 +72,9 @@ fn intel_lab_segmentation_matches_the_ground_truth() {
 fn generated_office_rooms_are_recovered_from_the_walls_alone() {
     let scene = usar_world::generate::generate(usar_world::generate::SceneKind::Office, 1);
     let seg = segment_scene(&scene, &SegmentationParams::default());
-    let (truth, truth_classes): (Vec<u32>, Vec<Option<bool>>) = scene
-        .room_id
-        .as_slice()
-        .iter()
-        .zip(scene.obstacle.as_slice())
-        .map(|(&id, &o)| {
-            if o != usar_world::obstacle::NONE || id == 0 {
-                (0, None)
-            } else {
-                let corridor = scene.room(id).map(|r| r.label == RoomLabel::Corridor);
-                (u32::from(id), corridor)
-            }
-        })
-        .unzip();
-    let rooms = score_rooms(&layer(&seg), &truth);
-    let classes = score_classes(&classes(&seg), &truth_classes);
+    let (truth, truth_classes) = scene_truth(&scene);
+    let rooms = score_rooms(&seg.labels(), &truth);
+    let classes = score_classes(&seg.corridor_classes(), &truth_classes);
     assert!(rooms.precision >= 0.95, "{rooms:?}");
     assert!(rooms.jaccard >= 0.65, "{rooms:?}");
     assert!(classes.accuracy >= 0.95, "{classes:?}");

@@ -8,7 +8,7 @@ use crate::scene_source;
 use serde_json::json;
 use std::path::Path;
 use usar_map::segmentation::evaluate::{
-    ClassScore, RoomScore, score_classes, score_rooms, truth_classes_from_image,
+    ClassScore, RoomScore, scene_truth, score_classes, score_rooms, truth_classes_from_image,
     truth_rooms_from_image,
 };
 use usar_map::segmentation::{Segmentation, SegmentationParams, segment_scene};
@@ -29,24 +29,24 @@ pub fn run(args: SceneSegmentArgs) -> CmdResult {
             args.scene
         )));
     }
-    let (own_rooms, own_classes) = own_layer(&scene);
+    let (own_rooms, own_classes) = scene_truth(&scene);
     let rooms = match &args.truth_rooms {
         Some(path) => Some(score_rooms(
-            &layer(&seg),
+            &seg.labels(),
             &truth_rooms_from_image(&truth_image(path, &scene)?),
         )),
         None => args
             .against_layer
-            .then(|| score_rooms(&layer(&seg), &own_rooms)),
+            .then(|| score_rooms(&seg.labels(), &own_rooms)),
     };
     let classes = match &args.truth_classes {
         Some(path) => Some(score_classes(
-            &classes(&seg),
+            &seg.corridor_classes(),
             &truth_classes_from_image(&truth_image(path, &scene)?),
         )),
         None => args
             .against_layer
-            .then(|| score_classes(&classes(&seg), &own_classes)),
+            .then(|| score_classes(&seg.corridor_classes(), &own_classes)),
     };
     if let Some(png) = &args.png {
         draw(&scene, &seg).save_png(png).input()?;
@@ -133,39 +133,6 @@ fn read_params(path: &Path) -> CmdResult<SegmentationParams> {
         .check()
         .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
     Ok(params)
-}
-
-/// The scene's own rooms and classes on its free cells (0 / `None` elsewhere).
-fn own_layer(scene: &Scene) -> (Vec<u32>, Vec<Option<bool>>) {
-    scene
-        .room_id
-        .as_slice()
-        .iter()
-        .zip(scene.obstacle.as_slice())
-        .map(|(&id, &o)| {
-            if o != usar_world::obstacle::NONE || id == 0 {
-                return (0, None);
-            }
-            let corridor = scene.room(id).map(|r| r.label == RoomLabel::Corridor);
-            (u32::from(id), corridor)
-        })
-        .unzip()
-}
-
-fn layer(seg: &Segmentation) -> Vec<u32> {
-    seg.room_id
-        .as_slice()
-        .iter()
-        .map(|&l| u32::from(l))
-        .collect()
-}
-
-fn classes(seg: &Segmentation) -> Vec<Option<bool>> {
-    seg.room_id
-        .as_slice()
-        .iter()
-        .map(|&l| (l != 0).then(|| seg.segments[usize::from(l) - 1].label == RoomLabel::Corridor))
-        .collect()
 }
 
 /// A ground-truth image of the scene's size.

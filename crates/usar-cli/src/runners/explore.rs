@@ -103,6 +103,18 @@ pub(super) fn scene_and_team_factors(scene_help: &str, robots: i64) -> Vec<Facto
     ]
 }
 
+/// A team of `robots` needs as many start poses in the scene.
+pub(super) fn enough_start_poses(scene: &Scene, robots: usize) -> Result<(), String> {
+    if scene.start_poses.len() < robots {
+        return Err(format!(
+            "scene {} has {} start poses, robots = {robots}",
+            scene.name,
+            scene.start_poses.len()
+        ));
+    }
+    Ok(())
+}
+
 pub(super) fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpec {
     FactorSpec {
         name: name.into(),
@@ -178,15 +190,7 @@ impl Runner for ExploreRunner {
     fn check(&self, config: &Config) -> Result<(), String> {
         let scene = self.scene(config)?;
         let team = Self::team_config(config)?;
-        if scene.start_poses.len() < team.robots {
-            return Err(format!(
-                "scene {} has {} start poses, robots = {}",
-                scene.name,
-                scene.start_poses.len(),
-                team.robots
-            ));
-        }
-        Ok(())
+        enough_start_poses(&scene, team.robots)
     }
 
     fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {

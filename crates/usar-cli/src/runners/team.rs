@@ -1,6 +1,6 @@
 //! Runner `team`: paper 002's semantically-informed exploration (one `usar team run`).
 
-use super::explore::{factor, metric, scene_and_team_factors, scene_for};
+use super::explore::{enough_start_poses, factor, metric, scene_and_team_factors, scene_for};
 use crate::team_setup::TeamSetup;
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
@@ -199,14 +199,7 @@ impl Runner for TeamRunner {
     fn check(&self, config: &Config) -> Result<(), String> {
         let team = Self::setup(config).config()?;
         let scene = self.scene(config, &team)?;
-        if scene.start_poses.len() < team.robots {
-            return Err(format!(
-                "scene {} has {} start poses, robots = {}",
-                scene.name,
-                scene.start_poses.len(),
-                team.robots
-            ));
-        }
+        enough_start_poses(&scene, team.robots)?;
         if scene.rooms.is_empty() {
             return Err(format!(
                 "scene {} has no room layer and no free space to segment",

@@ -15,6 +15,7 @@
 use serde::Serialize;
 use std::collections::BTreeMap;
 use usar_world::io::image_map::DecodedImage;
+use usar_world::{RoomLabel, Scene};
 
 /// Scores of a segmentation against ground-truth rooms.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -169,4 +170,22 @@ pub fn truth_classes_from_image(image: &DecodedImage) -> Vec<Option<bool>> {
             _ => None,
         })
         .collect()
+}
+
+/// A scene's own room layer as ground truth: the room of every free cell and whether it is a
+/// corridor (0 / `None` on obstacles and outside rooms).
+pub fn scene_truth(scene: &Scene) -> (Vec<u32>, Vec<Option<bool>>) {
+    scene
+        .room_id
+        .as_slice()
+        .iter()
+        .zip(scene.obstacle.as_slice())
+        .map(|(&id, &o)| {
+            if o != usar_world::obstacle::NONE || id == 0 {
+                return (0, None);
+            }
+            let corridor = scene.room(id).map(|r| r.label == RoomLabel::Corridor);
+            (u32::from(id), corridor)
+        })
+        .unzip()
 }

@@ -143,6 +143,27 @@ pub(super) fn build(
 }
 
 impl Segmentation {
+    /// The segment of every cell as scored by [`super::evaluate::score_rooms`] (0: none).
+    pub fn labels(&self) -> Vec<u32> {
+        self.room_id
+            .as_slice()
+            .iter()
+            .map(|&l| u32::from(l))
+            .collect()
+    }
+
+    /// Whether every cell's segment is a corridor (`None` outside the segments), as scored by
+    /// [`super::evaluate::score_classes`].
+    pub fn corridor_classes(&self) -> Vec<Option<bool>> {
+        self.room_id
+            .as_slice()
+            .iter()
+            .map(|&l| {
+                (l != 0).then(|| self.segments[usize::from(l) - 1].label == RoomLabel::Corridor)
+            })
+            .collect()
+    }
+
     /// Replaces the scene's room layer, rooms and doors with this segmentation (which must have
     /// been computed on the scene's grid).
     pub fn apply_to(&self, scene: &mut Scene) {
