@@ -396,6 +396,18 @@ pub struct SceneGenArgs {
     pub json: bool,
 }
 
+/// A scene to read or generate: its name, a generator's seed and how to read a map image.
+#[derive(Debug, Args)]
+pub struct SceneSpec {
+    /// The scene: a scene file, a ROS map, a map image, a MovingAI map or a generator name.
+    pub scene: String,
+    /// Seed of a generated scene.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+}
+
 /// How to read a map image.
 #[derive(Debug, Args, Clone)]
 pub struct ImageArgs {
@@ -429,12 +441,8 @@ pub struct SceneImportArgs {
 
 #[derive(Debug, Args)]
 pub struct SceneExportArgs {
-    /// The scene (file, map or generator name).
-    pub scene: String,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
     #[command(flatten)]
-    pub image: ImageArgs,
+    pub source: SceneSpec,
     /// Write a ROS map_server map: this YAML and a PGM beside it.
     #[arg(long)]
     pub ros: Option<PathBuf>,
@@ -450,11 +458,8 @@ pub struct SceneExportArgs {
 
 #[derive(Debug, Args)]
 pub struct SceneShowArgs {
-    pub scene: String,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
     #[command(flatten)]
-    pub image: ImageArgs,
+    pub source: SceneSpec,
     /// Output PNG file.
     #[arg(long)]
     pub png: PathBuf,
@@ -470,22 +475,16 @@ pub struct SceneShowArgs {
 
 #[derive(Debug, Args)]
 pub struct SceneInfoArgs {
-    pub scene: String,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
     #[command(flatten)]
-    pub image: ImageArgs,
+    pub source: SceneSpec,
     #[arg(long)]
     pub json: bool,
 }
 
 #[derive(Debug, Args)]
 pub struct SceneSegmentArgs {
-    pub scene: String,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
     #[command(flatten)]
-    pub image: ImageArgs,
+    pub source: SceneSpec,
     /// Segmentation parameters (TOML; missing fields keep their defaults): min_region_area_m2,
     /// door_ratio, max_door_width_m, min_depth_m, min_core_area_m2, min_room_area_m2,
     /// corridor_elongation, [thresholds] small_below_m2, medium_below_m2.

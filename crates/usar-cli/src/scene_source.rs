@@ -1,7 +1,7 @@
 //! Resolves a SCENE argument: a scene file, a ROS map, a map image, a MovingAI map or a
 //! generator name.
 
-use crate::cli::{GeneratorKind, ImageArgs};
+use crate::cli::{GeneratorKind, ImageArgs, SceneSpec};
 use crate::failure::{CmdResult, InputContext, bad_input};
 use std::path::Path;
 use usar_world::generate::{SceneKind, generate};
@@ -32,6 +32,11 @@ pub fn image_options(image: &ImageArgs, path: &Path) -> CmdResult<ImageMapOption
         free_thresh: image.free_thresh,
         ..ImageMapOptions::default()
     })
+}
+
+/// The scene a command's [`SceneSpec`] names.
+pub fn load_spec(spec: &SceneSpec) -> CmdResult<Scene> {
+    load(&spec.scene, spec.seed, &spec.image)
 }
 
 /// Loads a scene from a path (by extension) or generates one by name.

@@ -83,7 +83,7 @@ fn export(args: SceneExportArgs) -> CmdResult {
             "nothing to export: give --ros FILE.yaml, --png FILE.png or --scene-file FILE.json"
         )));
     }
-    let scene = scene_source::load(&args.scene, args.seed, &args.image)?;
+    let scene = scene_source::load_spec(&args.source)?;
     let mut written = Vec::new();
     if let Some(yaml) = &args.ros {
         usar_world::io::ros::write_ros_map(&scene, yaml).input()?;
@@ -108,7 +108,7 @@ fn export(args: SceneExportArgs) -> CmdResult {
 }
 
 fn show(args: SceneShowArgs) -> CmdResult {
-    let scene = scene_source::load(&args.scene, args.seed, &args.image)?;
+    let scene = scene_source::load_spec(&args.source)?;
     let opts = RenderOptions {
         px_per_cell: args.px_per_cell,
         show_ground_truth: args.ground_truth,
@@ -132,7 +132,7 @@ fn show(args: SceneShowArgs) -> CmdResult {
 }
 
 fn info(args: SceneInfoArgs) -> CmdResult {
-    let scene = scene_source::load(&args.scene, args.seed, &args.image)?;
+    let scene = scene_source::load_spec(&args.source)?;
     let info = scene.info();
     if args.json {
         return print_json(&info);

@@ -17,7 +17,7 @@ use usar_world::render::Canvas;
 use usar_world::{RoomLabel, Scene};
 
 pub fn run(args: SceneSegmentArgs) -> CmdResult {
-    let mut scene = scene_source::load(&args.scene, args.seed, &args.image)?;
+    let mut scene = scene_source::load_spec(&args.source)?;
     let params = match &args.params {
         Some(path) => read_params(path)?,
         None => SegmentationParams::default(),
@@ -26,7 +26,7 @@ pub fn run(args: SceneSegmentArgs) -> CmdResult {
     if args.against_layer && scene.rooms.is_empty() {
         return Err(bad_input(anyhow::anyhow!(
             "{}: --against-layer needs a scene with a room layer",
-            args.scene
+            args.source.scene
         )));
     }
     let (own_rooms, own_classes) = scene_truth(&scene);
