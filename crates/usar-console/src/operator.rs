@@ -20,7 +20,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::Duration;
 use usar_maxq::{Domain, MaxqQ, NodeId, Schedule};
 use usar_rescue::cell_map::MapCell;
-use usar_rescue::exploration::ExplorationWeights;
+use usar_rescue::exploration::{Direction, ExplorationWeights};
 use usar_rescue::hierarchy::{RescueHierarchy, action};
 use usar_rescue::operator::{HandOff, NavigationRequest, VictimDecision, VictimRequest};
 use usar_rescue::{DomainConfig, RescueDomain, RescueScene, RescueState, VictimStatus};
@@ -35,6 +35,8 @@ pub struct ConsoleOperator {
     shared: Arc<Shared>,
     scene: Arc<RescueScene>,
     answers: Receiver<OperatorAnswer>,
+    /// Why the robot is stuck, set by the paced domain before it asks (see [`HandOffView::reason`]).
+    stuck_reason: &'static str,
 }
 
 impl ConsoleOperator {
@@ -47,6 +49,7 @@ impl ConsoleOperator {
             shared,
             scene,
             answers,
+            stuck_reason: "slipping",
         }
     }
 
@@ -115,6 +118,8 @@ impl HandOff for ConsoleOperator {
                 kind: "victim".into(),
                 x: target.x,
                 y: target.y,
+                reason: None,
+                suggested: None,
                 probability: Some(request.probability),
                 size_m2: Some(request.size_m2),
                 thermal: None,
@@ -138,18 +143,25 @@ impl HandOff for ConsoleOperator {
     }
 
     fn drive(&mut self, request: &NavigationRequest) -> CellAction {
-        let posted = self
-            .shared
-            .lock_rescue()
-            .handoff
-            .as_ref()
-            .is_some_and(|h| h.kind == "stuck");
+        let suggested = request.suggested.map(|d| heading_name(d).to_string());
+        let p = self
+            .scene
+            .view
+            .cell_center(Cell::new(request.cell.0, request.cell.1));
+        let posted = {
+            let mut rescue = self.shared.lock_rescue();
+            match rescue.handoff.as_mut().filter(|h| h.kind == "stuck") {
+                Some(h) => {
+                    // The same hand-off, updated as the person drives.
+                    (h.x, h.y, h.suggested) = (p.x, p.y, suggested.clone());
+                    h.reason = Some(self.stuck_reason.into());
+                    true
+                }
+                None => false,
+            }
+        };
         if !posted {
             self.drain();
-            let p = self
-                .scene
-                .view
-                .cell_center(Cell::new(request.cell.0, request.cell.1));
             self.post(
                 HandOffView {
                     id: 0,
@@ -157,6 +169,8 @@ impl HandOff for ConsoleOperator {
                     kind: "stuck".into(),
                     x: p.x,
                     y: p.y,
+                    reason: Some(self.stuck_reason.into()),
+                    suggested,
                     probability: None,
                     size_m2: None,
                     thermal: None,
@@ -226,6 +240,7 @@ impl PacedDomain<'_> {
             r.handoff = None;
             r.mode = "autonomous";
         }
+
         for (cell, mark, probability) in self.inner.possible_victims() {
             let entry = r.victims.entry(cell).or_insert((mark, probability));
             if entry.0 != usar_rescue::VictimMark::Tagged {
@@ -256,6 +271,16 @@ trait KindCheck {
 impl KindCheck for Option<HandOffView> {
     fn is_some_and_kind(&self, kind: &str) -> bool {
         self.as_ref().is_some_and(|h| h.kind == kind)
+    }
+}
+
+/// A heading's name as the page shows it.
+fn heading_name(d: Direction) -> &'static str {
+    match d {
+        Direction::East => "east",
+        Direction::North => "north",
+        Direction::West => "west",
+        Direction::South => "south",
     }
 }
 
@@ -302,6 +327,11 @@ impl Domain for PacedDomain<'_> {
     }
 
     fn delegated_choice(&mut self, node: NodeId, s: &RescueState) -> Option<usize> {
+        self.inner.operator.stuck_reason = if self.inner.is_stuck() {
+            "slipping"
+        } else {
+            "no progress"
+        };
         self.publish();
         self.inner.delegated_choice(node, s)
     }

@@ -40,10 +40,17 @@ pub struct VictimView {
 pub struct HandOffView {
     pub id: u64,
     pub robot: usize,
-    /// `victim` (Confirm / Reject) or `stuck` (drive until a command takes effect).
+    /// `victim` (Confirm / Reject) or `stuck` (drive until the robot gets going again).
     pub kind: String,
     pub x: f64,
     pub y: f64,
+    /// Why a robot is stuck: `slipping` (its commands do not take effect; control returns when
+    /// one does) or `no progress` (it has driven without exploring anything new; control
+    /// returns once the operator's driving explores something).
+    pub reason: Option<String>,
+    /// Where the stuck robot's exploration would go next (`east`, `north`, `west`, `south`),
+    /// if anywhere: what the robot would do, for the person to judge.
+    pub suggested: Option<String>,
     pub probability: Option<f64>,
     pub size_m2: Option<f64>,
     /// URLs of the sensor images (thermal region, depth profile).

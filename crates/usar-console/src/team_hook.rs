@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use usar_map::CellClass;
 use usar_map::planning::{Connectivity, GridAStar, NavGrid};
 use usar_sim::{CellAction, Velocity};
-use usar_team::driver::PathFollower;
+use usar_team::driver::{ESCAPES, PathFollower, RECOVERY_S};
 use usar_team::{MissionHook, Strategy, TeamMission};
 use usar_world::Scene;
 
@@ -34,8 +34,16 @@ pub fn strategy(name: &str) -> Option<Strategy> {
 
 /// A team robot under operator control.
 enum Override {
-    Teleop { velocity: Velocity, until: Instant },
-    Path(PathFollower),
+    Teleop {
+        velocity: Velocity,
+        until: Instant,
+    },
+    /// Sent to a point: the path, and the recovery manoeuvre under way after a bump (the
+    /// index into [`ESCAPES`] and when it ends, simulated seconds), as the team's own robots.
+    Path {
+        follower: PathFollower,
+        recovery: Option<(usize, f64)>,
+    },
 }
 
 /// Pace: simulated time runs at `speed` × wall-clock time, measured over the last second.
@@ -231,7 +239,10 @@ impl ConsoleHook {
                 let k = team_robot(robot, n)?;
                 let mission = mission.ok_or("the team's mission has ended")?;
                 let path = self.plan(mission, k, usar_world::Point2::new(x, y))?;
-                self.overrides[k] = Some(Override::Path(path));
+                self.overrides[k] = Some(Override::Path {
+                    follower: path,
+                    recovery: None,
+                });
                 Ok(())
             }
             ClientMessage::Weights { w_l, w_p, w_q } => {
@@ -326,14 +337,14 @@ impl ConsoleHook {
             .map(|(k, r)| {
                 let (mode, task) = match &self.overrides[k] {
                     Some(Override::Teleop { .. }) => ("operator", "teleoperated"),
-                    Some(Override::Path(_)) => ("operator", "sent to a point"),
+                    Some(Override::Path { .. }) => ("operator", "sent to a point"),
                     None if r.failed => ("autonomous", "failed"),
                     None if mission.is_recovering(k) => ("autonomous", "recovering"),
                     None if mission.robot_goal(k).is_some() => ("autonomous", "exploring"),
                     None => ("autonomous", "idle"),
                 };
                 let goal = match &self.overrides[k] {
-                    Some(Override::Path(p)) => p.goal(),
+                    Some(Override::Path { follower, .. }) => follower.goal(),
                     _ => mission.robot_goal(k),
                 };
                 RobotView {
@@ -574,7 +585,7 @@ impl MissionHook for ConsoleHook {
                 self.overrides[robot] = None;
                 planned
             }
-            Some(Override::Path(_)) => self.path_commands[robot].unwrap_or_default(),
+            Some(Override::Path { .. }) => self.path_commands[robot].unwrap_or_default(),
             None => planned,
         }
     }
@@ -583,13 +594,27 @@ impl MissionHook for ConsoleHook {
         self.sim_s = mission.simulation().time_s();
         for k in 0..self.overrides.len() {
             self.path_commands[k] = None;
-            if let Some(Override::Path(follower)) = &mut self.overrides[k] {
+            if let Some(Override::Path { follower, recovery }) = &mut self.overrides[k] {
                 let r = &mission.simulation().robots()[k];
                 if follower.is_done(r.pose) {
                     self.overrides[k] = None;
-                } else {
-                    self.path_commands[k] = Some(follower.command(r.pose, &r.spec));
+                    continue;
                 }
+                // After a bump: back up, turn either way, creep forward (the mission's own
+                // escapes, the next one as soon as one bumps too), then follow the path again.
+                *recovery = match *recovery {
+                    Some((e, until)) if self.sim_s < until && r.in_contact() => {
+                        Some(((e + 1) % ESCAPES.len(), self.sim_s + RECOVERY_S))
+                    }
+                    Some((e, until)) if self.sim_s < until => Some((e, until)),
+                    Some(_) => None,
+                    None if r.in_contact() => Some((0, self.sim_s + RECOVERY_S)),
+                    None => None,
+                };
+                self.path_commands[k] = Some(match *recovery {
+                    Some((e, _)) => ESCAPES[e],
+                    None => follower.command(r.pose, &r.spec),
+                });
             }
         }
         self.shared.clock.advance_to(self.sim_s);

@@ -83,6 +83,11 @@ function render() {
   if (!f) return;
   $("clock").textContent = formatTime(f.time_s) + (f.paused ? " (paused)" : "");
   $("speed").textContent = f.speed + "×";
+  // The selector follows the mission's speed (another viewer may have changed it).
+  const select = $("speed-select");
+  if (document.activeElement !== select && [...select.options].some((o) => Number(o.value) === f.speed)) {
+    select.value = [...select.options].find((o) => Number(o.value) === f.speed).value;
+  }
   $("measured").textContent = f.measured_speed.toFixed(2) + "×";
   $("explored").textContent = f.explored_m2.toFixed(1) + " m² known, coverage " + (100 * f.coverage).toFixed(1) + " %" +
     (f.team_finish ? " — team mission ended: " + f.team_finish : "");
@@ -99,12 +104,20 @@ function formatTime(s) {
   return m + ":" + (r < 10 ? "0" : "") + r.toFixed(1);
 }
 
+// The robot list is updated in place (a click never lands on an element just replaced).
 function renderRobots(f) {
   const ul = $("robots");
-  const html = f.robots.map((r) =>
-    `<li id="robot-${r.id}" data-id="${r.id}" class="${r.mode}${state.selected === r.id ? " selected" : ""}">` +
-    `${r.name}: ${r.mode}, ${escapeHtml(r.task)} (${r.x.toFixed(1)}, ${r.y.toFixed(1)})</li>`).join("");
-  if (ul.innerHTML !== html) ul.innerHTML = html;
+  const ids = f.robots.map((r) => String(r.id));
+  [...ul.children].forEach((li) => { if (!ids.includes(li.dataset.id)) li.remove(); });
+  f.robots.forEach((r, k) => {
+    let li = $("robot-" + r.id);
+    if (!li) { li = document.createElement("li"); li.id = "robot-" + r.id; li.dataset.id = r.id; }
+    if (ul.children[k] !== li) ul.insertBefore(li, ul.children[k] || null);
+    const cls = r.mode + (state.selected === r.id ? " selected" : "");
+    if (li.className !== cls) li.className = cls;
+    const text = `${r.name}: ${r.mode}, ${r.task} (${r.x.toFixed(1)}, ${r.y.toFixed(1)})`;
+    if (li.textContent !== text) li.textContent = text;
+  });
 }
 
 function renderVictims(f) {
@@ -114,29 +127,38 @@ function renderVictims(f) {
   if ($("victims").innerHTML !== html) $("victims").innerHTML = html;
 }
 
+// The queue is rebuilt when hand-offs come or go; a stuck robot's card is updated in place as
+// the robot is driven (its reason and suggested heading change, its button stays).
 function renderHandoffs(f) {
   const div = $("handoffs");
   const key = f.handoffs.map((h) => h.id + h.kind).join(",");
-  if (div.dataset.key === key) return;
-  div.dataset.key = key;
-  if (!f.handoffs.length) { div.innerHTML = '<p class="empty">none</p>'; return; }
-  div.innerHTML = f.handoffs.map((h) => {
-    if (h.kind === "victim") {
-      return `<div class="handoff victim" id="handoff-${h.id}">Robot ${h.robot}: possible victim at ` +
-        `(${h.x.toFixed(1)}, ${h.y.toFixed(1)}), p = ${h.probability.toFixed(2)}, ${h.size_m2.toFixed(3)} m²<br>` +
-        `<img src="${h.thermal}" alt="thermal region" title="thermal region">` +
-        `<img src="${h.depth}" alt="depth profile" title="depth profile ahead"><br>` +
-        `<button class="confirm" data-id="${h.id}">Confirm victim</button>` +
-        `<button class="reject" data-id="${h.id}">Reject</button></div>`;
-    }
-    return `<div class="handoff stuck" id="handoff-${h.id}">Robot ${h.robot} is stuck at ` +
-      `(${h.x.toFixed(1)}, ${h.y.toFixed(1)}) and hands you its navigation: select it and drive with the ` +
-      `arrow keys until a command takes effect. <button class="take" data-robot="${h.robot}">Take over</button></div>`;
-  }).join("");
-}
-
-function escapeHtml(s) {
-  return String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" }[c]));
+  if (div.dataset.key !== key) {
+    div.dataset.key = key;
+    div.innerHTML = f.handoffs.length ? f.handoffs.map((h) => {
+      if (h.kind === "victim") {
+        return `<div class="handoff victim" id="handoff-${h.id}">Robot ${h.robot}: possible victim at ` +
+          `(${h.x.toFixed(1)}, ${h.y.toFixed(1)}), p = ${h.probability.toFixed(2)}, ${h.size_m2.toFixed(3)} m²<br>` +
+          `<img src="${h.thermal}" alt="thermal region" title="thermal region">` +
+          `<img src="${h.depth}" alt="depth profile" title="depth profile ahead"><br>` +
+          `<button class="confirm" data-id="${h.id}">Confirm victim</button>` +
+          `<button class="reject" data-id="${h.id}">Reject</button></div>`;
+      }
+      return `<div class="handoff stuck" id="handoff-${h.id}"><span class="why"></span> ` +
+        `<button class="take" data-robot="${h.robot}">Take over</button></div>`;
+    }).join("") : '<p class="empty">none</p>';
+  }
+  f.handoffs.filter((h) => h.kind === "stuck").forEach((h) => {
+    const card = $("handoff-" + h.id);
+    const why = h.reason === "no progress"
+      ? "has driven without exploring anything new; drive it (arrow keys) until it explores again"
+      : "cannot make its commands take effect; drive it (arrow keys) until one does";
+    const text = `Robot ${h.robot} at (${h.x.toFixed(1)}, ${h.y.toFixed(1)}) ${why}.` +
+      (h.suggested ? ` Its exploration would head ${h.suggested}.` : "");
+    const span = card.querySelector(".why");
+    if (span.textContent !== text) span.textContent = text;
+    card.dataset.reason = h.reason || "";
+    card.dataset.suggested = h.suggested || "";
+  });
 }
 
 function drawMap() {
@@ -257,8 +279,9 @@ $("handoffs").onclick = (e) => {
 $("map").onclick = (e) => {
   const t = transform();
   if (!t || state.selected == null) return;
-  const rect = e.target.getBoundingClientRect();
-  const [x, y] = t.toWorld(e.clientX - rect.left, e.clientY - rect.top);
+  const c = $("map"), rect = c.getBoundingClientRect();
+  // Client pixels to canvas pixels (the canvas may be drawn at another size than its own).
+  const [x, y] = t.toWorld((e.clientX - rect.left) * c.width / rect.width, (e.clientY - rect.top) * c.height / rect.height);
   send({ type: "send_to", robot: state.selected, x, y });
 };
 ["layer-labels", "layer-cells", "layer-btm"].forEach((id) => { $(id).onchange = drawMap; });

@@ -4,6 +4,38 @@
 use usar_sim::{RobotSpec, Velocity};
 use usar_world::{Point2, Pose2, normalize_angle};
 
+/// Recovery after a collision (what a bumper-equipped base does): it tries these manoeuvres in
+/// turn, each for [`RECOVERY_S`], moving on to the next as soon as one bumps too; then it plans
+/// again. Backing up comes first; turning either way and creeping forward free a robot wedged
+/// with a corner behind it.
+pub const RECOVERY_S: f64 = 1.0;
+pub const ESCAPES: [Velocity; 6] = [
+    Velocity {
+        linear_mps: -0.15,
+        angular_radps: 0.0,
+    },
+    Velocity {
+        linear_mps: 0.0,
+        angular_radps: 0.8,
+    },
+    Velocity {
+        linear_mps: 0.0,
+        angular_radps: -0.8,
+    },
+    Velocity {
+        linear_mps: -0.1,
+        angular_radps: 0.6,
+    },
+    Velocity {
+        linear_mps: -0.1,
+        angular_radps: -0.6,
+    },
+    Velocity {
+        linear_mps: 0.1,
+        angular_radps: 0.0,
+    },
+];
+
 #[derive(Clone, Debug, Default)]
 pub struct PathFollower {
     waypoints: Vec<Point2>,

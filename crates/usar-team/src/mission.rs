@@ -6,7 +6,7 @@ use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
 use crate::bids::{Measures, TeamSizer};
 use crate::config::{Strategy, TeamConfig};
-use crate::driver::PathFollower;
+use crate::driver::{ESCAPES, PathFollower, RECOVERY_S};
 use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 use crate::semantic_map::SemanticMap;
@@ -45,37 +45,6 @@ const TIGHT_MARGIN_M: f64 = 0.05;
 /// The mission counts as explored once no robot has had a reachable candidate for this long
 /// (a doorway closed for a moment by a noisy return must not end it).
 const EXPLORED_AFTER_S: f64 = 10.0;
-/// Recovery after a collision (what a bumper-equipped base does): it tries these manoeuvres in
-/// turn, each for [`RECOVERY_S`], moving on to the next as soon as one bumps too; then it plans
-/// again. Backing up comes first; turning either way and creeping forward free a robot wedged
-/// with a corner behind it.
-const RECOVERY_S: f64 = 1.0;
-const ESCAPES: [Velocity; 6] = [
-    Velocity {
-        linear_mps: -0.15,
-        angular_radps: 0.0,
-    },
-    Velocity {
-        linear_mps: 0.0,
-        angular_radps: 0.8,
-    },
-    Velocity {
-        linear_mps: 0.0,
-        angular_radps: -0.8,
-    },
-    Velocity {
-        linear_mps: -0.1,
-        angular_radps: 0.6,
-    },
-    Velocity {
-        linear_mps: -0.1,
-        angular_radps: -0.6,
-    },
-    Velocity {
-        linear_mps: 0.1,
-        angular_radps: 0.0,
-    },
-];
 /// With auctions, a candidate some robot reached is offered to nobody within this many map cells
 /// for this long: a frontier that did not resolve on arrival lies where the laser cannot see
 /// (behind furniture), and would draw robot after robot.
