@@ -75,6 +75,8 @@ pub(crate) struct BtmShared {
     pub nodes: Vec<BtmNodeView>,
     pub links: Vec<BtmLinkView>,
     pub status: String,
+    /// The crawler building the BTM, while it drives: x, y, θ.
+    pub crawler: Option<[f64; 3]>,
 }
 
 /// State shared by the mission threads and the server.
@@ -194,10 +196,11 @@ fn run_btm(shared: Arc<Shared>, scene: Scene, seed: u64, path: PathBuf) {
         let reader = usar_btm::BtmStore::open(&path).ok();
         let mut last_read = Instant::now();
         let clock_shared = shared.clone();
-        let mut on_progress = |t: f64| {
+        let mut on_progress = |t: f64, pose: usar_world::Pose2| {
             if !clock_shared.clock.wait_until(t) {
                 std::panic::resume_unwind(Box::new(StopBuild));
             }
+            clock_shared.lock_btm().crawler = Some([pose.x, pose.y, pose.theta]);
             if last_read.elapsed() >= Duration::from_millis(500)
                 && let Some(Ok(btm)) = reader.as_ref().map(|r| r.load())
             {

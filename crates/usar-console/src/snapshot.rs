@@ -7,10 +7,10 @@ use serde::{Deserialize, Serialize};
 /// One robot as the console shows it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RobotView {
-    /// 0 is the MAXQ robot, 1… the team.
+    /// 0 is the MAXQ robot, 1… the team, then the BTM crawler (when a BTM is being built).
     pub id: usize,
     pub name: String,
-    /// `maxq` or `team`.
+    /// `maxq`, `team` or `btm`.
     pub kind: String,
     pub x: f64,
     pub y: f64,

@@ -455,7 +455,7 @@ impl ConsoleHook {
             m.explored = self.explored.clone();
             maps = Some(m);
         }
-        let mut robots = Vec::with_capacity(self.team.len() + 1);
+        let mut robots = Vec::with_capacity(self.team.len() + 2);
         robots.push(RobotView {
             id: 0,
             name: "MAXQ".into(),
@@ -468,6 +468,24 @@ impl ConsoleHook {
             goal: None,
         });
         robots.extend(self.team.iter().cloned());
+        if let Some([x, y, theta]) = btm.crawler {
+            let building = btm.status == "building";
+            robots.push(RobotView {
+                id: self.team.len() + 1,
+                name: "BTM crawler".into(),
+                kind: "btm".into(),
+                x,
+                y,
+                theta,
+                mode: "autonomous".into(),
+                task: if building {
+                    format!("building the BTM (paper 004): {} nodes", btm.nodes.len())
+                } else {
+                    format!("BTM {}", btm.status)
+                },
+                goal: None,
+            });
+        }
         let victims = rescue
             .victims
             .iter()

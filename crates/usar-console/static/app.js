@@ -228,7 +228,7 @@ function drawMap() {
     g.save();
     g.translate(x, y);
     g.rotate(-r.theta);
-    g.fillStyle = r.kind === "maxq" ? "#ff9c1a" : "#3da5ff";
+    g.fillStyle = { maxq: "#ff9c1a", team: "#3da5ff", btm: "#4cf08a" }[r.kind] || "#3da5ff";
     g.beginPath(); g.moveTo(10, 0); g.lineTo(-7, 6); g.lineTo(-7, -6); g.closePath(); g.fill();
     g.lineWidth = r.mode === "operator" ? 3 : 1;
     g.strokeStyle = r.mode === "operator" ? "#ff3030" : state.selected === r.id ? "#fff" : "#000";
@@ -263,6 +263,8 @@ $("apply-weights").onclick = () => send({ type: "weights", w_l: Number($("w_l").
 $("hypothesis").onchange = (e) => send({ type: "hypothesis", name: e.target.value });
 $("robots").onclick = (e) => {
   const li = e.target.closest("li");
+  const r = li && state.frame && state.frame.robots.find((x) => x.id === Number(li.dataset.id));
+  if (r && r.kind === "btm") { log("the BTM crawler follows paper 004's behaviours on its own"); return; }
   if (li) { state.selected = Number(li.dataset.id); log("selected robot " + state.selected); render(); }
 };
 $("handoffs").onclick = (e) => {

@@ -331,7 +331,7 @@ async fn click_sends_a_team_robot(c: &Client, first: &Value, id: u64) {
         .expect("resumes");
     wait_for_frame(
         c,
-        30,
+        60,
         "the robot did not drive back toward the clicked point",
         |f| {
             f["paused"] == false

@@ -78,7 +78,7 @@ fn build(args: BtmBuildArgs) -> CmdResult {
         &config,
         args.seed,
         Some(&store),
-        &mut |t| bar.set_position(t as u64),
+        &mut |t, _| bar.set_position(t as u64),
     );
     bar.finish_and_clear();
     drop(store);

@@ -196,10 +196,10 @@ impl<'a> Explorer<'a> {
     }
 
     /// Explores until no un-searched link is left or time runs out; `on_progress` gets the
-    /// simulated time once per simulated second.
+    /// simulated time and the robot's pose four times per simulated second.
     pub(super) fn run(
         &mut self,
-        on_progress: &mut dyn FnMut(f64),
+        on_progress: &mut dyn FnMut(f64, Pose2),
     ) -> Result<StopReason, BuildError> {
         self.sense();
         self.start()?;
@@ -212,9 +212,9 @@ impl<'a> Explorer<'a> {
             if now >= self.cfg.max_time_s {
                 return Ok(StopReason::TimeLimit);
             }
-            if now >= reported_s + 1.0 {
-                reported_s = now.floor();
-                on_progress(now);
+            if now >= reported_s + 0.25 {
+                reported_s = (now * 4.0).floor() / 4.0;
+                on_progress(now, self.sim.robot(self.id).pose);
             }
             let command = self.decide()?;
             self.sim.step(&[command]);
