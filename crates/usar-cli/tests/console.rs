@@ -20,4 +20,10 @@ fn a_bad_bind_address_or_mission_file_is_bad_input() {
     std::fs::write(&mission, "speed = -1\n").expect("writes");
     let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
     assert_bad_input(&out, "speed");
+    std::fs::write(&mission, "team_robot = \"hovercraft\"\n").expect("writes");
+    let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
+    assert_bad_input(&out, "team_robot");
+    std::fs::write(&mission, "floor_cell_m2 = 0\n").expect("writes");
+    let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
+    assert_bad_input(&out, "floor_cell_m2");
 }

@@ -53,6 +53,8 @@ pub enum ConsoleError {
 /// weights = [1.0, 1.0, 1.0]   # w_l, w_p, w_q (paper 000 §V)
 /// btm = true          # build a BTM beside the mission
 /// minutes = 60        # the team's mission length (simulated)
+/// team_robot = "crawler"  # crawler | wheeled (usar-sim presets)
+/// floor_cell_m2 = 2.25    # cell area of the generated rubble floor (paper 000: 0.84)
 /// ```
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -68,6 +70,14 @@ pub struct MissionConfig {
     pub weights: [f64; 3],
     pub btm: bool,
     pub minutes: f64,
+    /// The team's robots: a `usar-sim` preset. The crawler climbs the rubble the MAXQ robot
+    /// climbs; the wheeled robot (paper 002's default) stops at every step of 5 cm.
+    pub team_robot: String,
+    /// Cell area of the generated rubble floor, m². Paper 000's arena has 0.84 m² cells, whose
+    /// single-cell gates (0.92 m) leave a 0.6 × 0.45 m crawler too little room to plan through
+    /// its inflated map; the console's floor has 1.5 m cells (2.25 m²) so that the team explores
+    /// it too. The MAXQ robot works on cells of any size.
+    pub floor_cell_m2: f64,
     /// A policy file (`usar maxq train`); trained at start when absent.
     pub policy: Option<PathBuf>,
     /// The scene; a generated rubble floor when absent. Not in the file (given by the CLI).
@@ -89,6 +99,8 @@ impl Default for MissionConfig {
             weights: [1.0, 1.0, 1.0],
             btm: true,
             minutes: 60.0,
+            team_robot: "crawler".into(),
+            floor_cell_m2: 2.25,
             policy: None,
             scene: None,
         }
@@ -139,6 +151,18 @@ impl MissionConfig {
             return Err(field(
                 "minutes",
                 format!("found {}, expected > 0", self.minutes),
+            ));
+        }
+        if usar_sim::RobotSpec::preset(&self.team_robot).is_none() {
+            return Err(field(
+                "team_robot",
+                format!("found {:?}, expected crawler or wheeled", self.team_robot),
+            ));
+        }
+        if !(self.floor_cell_m2.is_finite() && (0.25..=16.0).contains(&self.floor_cell_m2)) {
+            return Err(field(
+                "floor_cell_m2",
+                format!("found {}, expected 0.25 to 16 m²", self.floor_cell_m2),
             ));
         }
         if usar_team::criteria::Hypothesis::named(&self.hypothesis).is_none() {

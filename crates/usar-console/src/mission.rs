@@ -267,7 +267,7 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
         config
             .scene
             .clone()
-            .unwrap_or_else(|| default_scene(config.seed)),
+            .unwrap_or_else(|| default_scene(config.seed, config.floor_cell_m2)),
     );
     let learner = match &config.policy {
         Some(path) => PolicyFile::load(path)?.learner,
@@ -289,7 +289,10 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
             .unwrap_or_else(usar_team::criteria::Hypothesis::big_rooms),
         ..Exploration::default()
     };
-    let team_config = TeamConfig::paper_002(config.team_robots, config.minutes, exploration);
+    let mut team_config = TeamConfig::paper_002(config.team_robots, config.minutes, exploration);
+    if let Some(robot) = usar_sim::RobotSpec::preset(&config.team_robot) {
+        team_config.robot = robot;
+    }
     let team_scene = Arc::new(with_team_starts(&scene, &team_config));
     let team = TeamMission::new(team_scene, team_config, config.seed)?;
 

@@ -8,9 +8,16 @@ use usar_team::TeamConfig;
 use usar_world::generate::{RubbleParams, generate_rubble};
 use usar_world::{Grid, Pose2, Room, RoomId, RoomLabel, RoomSizeThresholds, Scene};
 
-/// The default scene: a rubble floor of paper 000 §VI (20 × 20 cells, victims, heat sources).
-pub fn default_scene(seed: u64) -> Scene {
-    generate_rubble(seed, &RubbleParams::default())
+/// The default scene: a rubble floor of paper 000 §VI (20 × 20 cells, victims, heat sources)
+/// with cells of `cell_area_m2` (see [`crate::MissionConfig::floor_cell_m2`]).
+pub fn default_scene(seed: u64, cell_area_m2: f64) -> Scene {
+    generate_rubble(
+        seed,
+        &RubbleParams {
+            cell_area_m2,
+            ..RubbleParams::default()
+        },
+    )
 }
 
 /// Adds the quadrant zones when `scene` has no labelled room.

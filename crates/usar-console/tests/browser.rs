@@ -343,11 +343,15 @@ async fn click_sends_a_team_robot(c: &Client, first: &Value, id: u64) {
     .await;
 }
 
-/// The end-to-end mission: fast, slippery (the MAXQ robot gets stuck), no BTM (speed), and
+/// The end-to-end mission: the console's default floor, fast, slippery (the MAXQ robot gets stuck), no BTM (speed), and
 /// victims two-thirds buried, so that their exposed 0.06 m² give p ≈ 0.43 (uncertain: the
 /// robot hands them to the operator).
 fn e2e_mission() -> MissionConfig {
-    let mut scene = generate_rubble(1, &RubbleParams::default());
+    let params = RubbleParams {
+        cell_area_m2: MissionConfig::default().floor_cell_m2,
+        ..RubbleParams::default()
+    };
+    let mut scene = generate_rubble(1, &params);
     for v in &mut scene.victims {
         v.buried_fraction = (1.0 - 0.06 / v.visible_size_m2.max(0.06)).clamp(0.0, 1.0);
     }

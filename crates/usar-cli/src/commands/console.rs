@@ -34,7 +34,8 @@ pub struct ConsoleServeArgs {
     /// Seed of the generated scene and of every random stream.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// A mission file (TOML: team_robots, strategy, hypothesis, speed, train_trials, …).
+    /// A mission file (TOML: team_robots, team_robot, strategy, hypothesis, speed, train_trials,
+    /// floor_cell_m2, …; see the crate usar-console, `MissionConfig`).
     #[arg(long)]
     pub mission: Option<PathBuf>,
     /// Where to listen. A non-loopback address needs --token.
