@@ -27,6 +27,7 @@
 //! of following a compass direction through rubble (the paper's 1 786–2 026 steps per scene).
 
 use crate::cell_map::{CellMap, MapCell};
+use crate::travel::{TravelDistances, UNREACHED};
 use serde::{Deserialize, Serialize};
 
 /// A search direction / region (paper 000 Fig. 5), also a grid heading.
@@ -211,24 +212,24 @@ pub struct Guidance {
 }
 
 /// The exploration state over a robot's map: ω·λ per cell kept up to date as the map changes,
-/// and the buffers of the path search, so that choosing a direction allocates nothing.
+/// and the travel distances of eq. 10 ([`TravelDistances`]), so that choosing a direction
+/// allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Explorer {
     pub weights: ExplorationWeights,
     cols: i32,
     /// ω_x·λ_x of every cell of interest, 0 for the other cells.
     omega_lambda: Vec<f64>,
-    /// Path distance (steps) from the robot through known passable cells; u32::MAX unreached.
-    distance: Vec<u32>,
-    /// First step from the robot toward each reached cell (Direction index).
-    first_step: Vec<u8>,
-    queue: Vec<u32>,
+    /// Path distances through known passable cells from every cell the robot stood on.
+    travel: TravelDistances,
+    /// The robot's cell of the last search: the row of `travel` in use.
+    source: usize,
     /// The four neighbours of each cell by [`Direction::index`], [`NONE`] outside the map.
     neighbours: Vec<[u32; 4]>,
     /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
     delta: Vec<f64>,
-    /// The start of the last search when it was complete (not stopped at a goal).
-    complete_from: Option<usize>,
+    /// QUIRK (verification only): the last guide followed its kept target.
+    partial: bool,
 }
 
 /// No cell.
@@ -254,15 +255,15 @@ impl Explorer {
             weights,
             cols: map.cols,
             omega_lambda: vec![0.0; n],
-            distance: vec![u32::MAX; n],
-            first_step: vec![0; n],
-            queue: Vec::with_capacity(n),
+            travel: TravelDistances::new(&neighbours),
+            source: 0,
             neighbours,
             delta,
-            complete_from: None,
+            partial: false,
         };
         for i in 0..n {
             e.refresh(map, i);
+            e.travel.set_passable(i, map.cells[i].is_known_passable());
         }
         e
     }
@@ -287,6 +288,9 @@ impl Explorer {
 
     /// Call after cell (col, row) of `map` changed: updates it and its eight neighbours.
     pub fn cell_changed(&mut self, map: &CellMap, col: i32, row: i32) {
+        if let Some(i) = map.index(col, row) {
+            self.travel.set_passable(i, map.cells[i].is_known_passable());
+        }
         for dr in -1..=1 {
             for dc in -1..=1 {
                 if let Some(i) = map.index(col + dc, row + dr) {
@@ -302,67 +306,36 @@ impl Explorer {
         self.omega_lambda[i]
     }
 
-    /// Breadth-first path distances from cell `start` through known passable cells, with the
-    /// first step of a shortest path to each reached cell. With a `goal` the search stops as
-    /// soon as the goal (or, for a goal the robot cannot enter, the first cell facing it) is
-    /// reached: the distances of the cells met so far are final.
-    fn search(&mut self, map: &CellMap, start: usize, goal: Option<usize>) {
-        self.distance.fill(u32::MAX);
-        self.queue.clear();
-        self.complete_from = None;
-        self.distance[start] = 0;
-        self.queue.push(start as u32);
-        // A goal the robot cannot enter (unclassified, a victim) is reached from a neighbour.
-        let goal_unclassified = goal.is_some_and(|g| !map.cells[g].is_known_passable());
-        let goal = goal.map_or(NONE, |g| g as u32);
-        let mut head = 0;
-        while head < self.queue.len() {
-            let i = self.queue[head] as usize;
-            head += 1;
-            let nb = self.neighbours[i];
-            if i as u32 == goal || (goal_unclassified && nb.contains(&goal)) {
-                return;
-            }
-            let d = self.distance[i];
-            for (dir, &k) in nb.iter().enumerate() {
-                if k == NONE {
-                    continue;
-                }
-                let k = k as usize;
-                if self.distance[k] != u32::MAX || !map.cells[k].is_known_passable() {
-                    continue;
-                }
-                self.distance[k] = d + 1;
-                self.first_step[k] = if i == start {
-                    dir as u8
-                } else {
-                    self.first_step[i]
-                };
-                self.queue.push(k as u32);
-            }
+    /// Path distances from cell `start` through known passable cells (breadth-first
+    /// distances, kept up to date incrementally by [`TravelDistances`]).
+    fn search(&mut self, start: usize) {
+        self.travel.update(start);
+        self.source = start;
+    }
+
+    /// Path distance of cell `k` from the robot by the last search; `u32::MAX` unreached.
+    #[inline]
+    fn distance(&self, k: usize) -> u32 {
+        match self.travel.row(self.source)[k] {
+            d if d >= UNREACHED => u32::MAX,
+            d => u32::from(d),
         }
-        self.complete_from = Some(start);
     }
 
     /// Path distances from the robot at (rc, rr) to every cell it can reach (for
-    /// [`Explorer::toward_victim`]; [`Explorer::guide`] may stop its search early). Reuses
-    /// the last search when it was complete and from the same cell: call it right after
-    /// `guide`, on the same map.
+    /// [`Explorer::toward_victim`]).
     pub fn search_all(&mut self, map: &CellMap, rc: i32, rr: i32) {
-        if let Some(start) = map.index(rc, rr)
-            && self.complete_from != Some(start)
-        {
-            self.search(map, start, None);
+        if let Some(start) = map.index(rc, rr) {
+            self.search(start);
+            self.partial = false;
         }
     }
 
-    /// Path distances from the robot at (rc, rr) until the cells facing (gc, gr) are reached
+    /// Path distances from the robot at (rc, rr), enough to reach the cells facing (gc, gr)
     /// (for [`Explorer::toward_victim`] with a single victim to approach).
     pub fn search_toward(&mut self, map: &CellMap, rc: i32, rr: i32, gc: i32, gr: i32) {
-        if let (Some(start), Some(goal)) = (map.index(rc, rr), map.index(gc, gr))
-            && self.complete_from != Some(start)
-        {
-            self.search(map, start, Some(goal));
+        if let (Some(start), Some(_)) = (map.index(rc, rr), map.index(gc, gr)) {
+            self.search(start);
         }
     }
 
@@ -377,7 +350,7 @@ impl Explorer {
             if s == NONE {
                 continue;
             }
-            let d = self.distance[s as usize];
+            let d = self.distance(s as usize);
             if d != u32::MAX && best.is_none_or(|(bd, _, _)| d < bd) {
                 best = Some((d, s as usize, dir));
             }
@@ -386,8 +359,11 @@ impl Explorer {
     }
 
     /// The step from the robot toward reached cell `s` (`None` when the robot is in it).
-    fn step_toward(&self, s: usize, robot: usize) -> Option<Direction> {
-        (s != robot).then(|| Direction::from_index(usize::from(self.first_step[s])))
+    fn step_toward(&mut self, s: usize, robot: usize) -> Option<Direction> {
+        debug_assert_eq!(robot, self.source);
+        self.travel
+            .first_step(robot, s)
+            .map(|k| Direction::from_index(usize::from(k)))
     }
 
     /// Path distance to cell of interest `i` (through its stand cell when unclassified), or
@@ -398,14 +374,15 @@ impl Explorer {
             return None;
         }
         if cell.is_unclassified() {
-            self.stand_for(i).map(|(s, _)| self.distance[s] + 1)
+            self.stand_for(i).map(|(s, _)| self.distance(s) + 1)
         } else {
-            (self.distance[i] != u32::MAX).then_some(self.distance[i])
+            let d = self.distance(i);
+            (d != u32::MAX).then_some(d)
         }
     }
 
     /// The heading toward target cell `i` (reachable, see [`Explorer::target_distance`]).
-    fn heading_to(&self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
+    fn heading_to(&mut self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
         if map.cells[i].is_unclassified() {
             let (stand, face) = self.stand_for(i)?;
             self.step_toward(stand, robot).or(Some(face))
@@ -428,22 +405,24 @@ impl Explorer {
             map.index(tc, tr)
                 .filter(|&t| t != robot && map.cells[t].is_of_interest())
         });
-        self.search(map, robot, kept_target);
+        self.search(robot);
+        self.partial = false;
         if let (Some(g), Some(t)) = (kept, kept_target)
             && self.target_distance(map, t).is_some()
         {
+            self.partial = true;
             return Guidance {
                 heading: self.heading_to(map, t, robot),
                 ..g
             };
         }
-        // (The search stopped early only when it reached the kept target: it is complete.)
         // One pass over the cells of interest: eq. 7 per region and the best target per
         // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
         let mut utility = [0.0; 4];
         let mut best: [Option<(f64, u32, usize)>; 4] = [None; 4];
         let cols = self.cols as usize;
         let last = self.delta.len() - 1;
+        let dist = self.travel.row(robot);
         for (row, cells) in self.omega_lambda.chunks_exact(cols).enumerate() {
             let dy = row as i32 - rr;
             for (col, &ol) in cells.iter().enumerate() {
@@ -455,7 +434,20 @@ impl Explorer {
                 let Some(region) = region_of(dx, dy) else {
                     continue;
                 };
-                let d = self.target_distance(map, i);
+                // As `target_distance`, inline: through the nearest stand cell when the cell
+                // is unclassified.
+                let d = if map.cells[i].is_unclassified() {
+                    self.neighbours[i]
+                        .iter()
+                        .map(|&s| if s == NONE { UNREACHED } else { dist[s as usize] })
+                        .min()
+                        .unwrap_or(UNREACHED)
+                        .min(UNREACHED)
+                        .saturating_add(1)
+                } else {
+                    dist[i]
+                };
+                let d = (d < UNREACHED).then_some(u32::from(d));
                 let delta = d.map_or(1.0, |d| self.delta[(d as usize).min(last)]);
                 let value = ol * delta;
                 utility[region.index()] += value;
@@ -494,7 +486,7 @@ impl Explorer {
     /// that path's length; `None` when no such cell is reachable. Uses the distances of the
     /// last [`Explorer::search_all`] (call it first).
     pub fn toward_victim(
-        &self,
+        &mut self,
         map: &CellMap,
         rc: i32,
         rr: i32,
@@ -502,8 +494,11 @@ impl Explorer {
         vr: i32,
     ) -> Option<(Direction, u32)> {
         let robot = map.index(rc, rr)?;
+        if self.partial && map.index(vc, vr) == Some(robot) {
+            return None;
+        }
         let (stand, face) = self.stand_for(map.index(vc, vr)?)?;
-        let d = self.distance[stand];
+        let d = self.distance(stand);
         Some((self.step_toward(stand, robot).unwrap_or(face), d))
     }
 }
