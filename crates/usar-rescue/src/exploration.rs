@@ -322,72 +322,80 @@ impl Explorer {
         }
     }
 
-    /// Path distances from the robot at (rc, rr) to every cell it can reach (for
-    /// [`Explorer::toward_victim`]).
-    pub fn search_all(&mut self, map: &CellMap, rc: i32, rr: i32) {
-        if let Some(start) = map.index(rc, rr) {
-            self.search(start);
-            self.partial = false;
-        }
+    /// Prepares [`Explorer::toward_victim`] for several possible victims (the distances it
+    /// needs are kept per cell: nothing to search).
+    pub fn search_all(&mut self, _map: &CellMap, _rc: i32, _rr: i32) {
+        self.partial = false;
     }
 
-    /// Path distances from the robot at (rc, rr), enough to reach the cells facing (gc, gr)
-    /// (for [`Explorer::toward_victim`] with a single victim to approach).
-    pub fn search_toward(&mut self, map: &CellMap, rc: i32, rr: i32, gc: i32, gr: i32) {
-        if let (Some(start), Some(_)) = (map.index(rc, rr), map.index(gc, gr)) {
-            self.search(start);
+    /// Prepares [`Explorer::toward_victim`] for a single possible victim at (gc, gr).
+    pub fn search_toward(&mut self, _map: &CellMap, _rc: i32, _rr: i32, _gc: i32, _gr: i32) {}
+
+    /// Path distance from the robot's cell to reached cell `s` and the first step toward it
+    /// (`None` when the robot is in `s`); `None` when `s` cannot be reached.
+    ///
+    /// Read from the distances *from `s`* (the graph is undirected): the first step of the
+    /// breadth-first search from the robot is the first neighbour, in the order E N W S, one
+    /// step nearer to `s` ([`crate::travel`]). A target's distances stay valid while the robot
+    /// follows it, so a step costs a few look-ups instead of a search.
+    fn toward(&mut self, robot: usize, s: usize) -> Option<(u32, Option<Direction>)> {
+        if s == robot {
+            return Some((0, None));
         }
+        if !self.travel.is_passable(robot) {
+            // (Never on a map built by the domain: the robot stands on a visited cell.)
+            self.search(robot);
+            let d = self.distance(s);
+            let step = self.travel.first_step(robot, s);
+            return (d != u32::MAX).then(|| (d, step.map(|k| Direction::from_index(usize::from(k)))));
+        }
+        self.travel.update(s);
+        let row = self.travel.row(s);
+        let d = row[robot];
+        if d >= UNREACHED {
+            return None;
+        }
+        let step = self.neighbours[robot]
+            .iter()
+            .position(|&k| k != NONE && row[k as usize] == d - 1)
+            .map(Direction::from_index);
+        Some((u32::from(d), step))
     }
 
-    /// The reached neighbour from which the robot can face unclassified cell `i`, and the
-    /// direction it then faces: the nearest one by path.
-    #[inline]
-    fn stand_for(&self, i: usize) -> Option<(usize, Direction)> {
-        let mut best: Option<(u32, usize, Direction)> = None;
+    /// The reached neighbour from which the robot can face unclassified cell `i`: the nearest
+    /// one by path (ties: the first facing direction in E N W S order), with its distance, the
+    /// direction it faces and the first step toward it.
+    fn stand_for(
+        &mut self,
+        i: usize,
+        robot: usize,
+    ) -> Option<(u32, usize, Direction, Option<Direction>)> {
+        let mut best: Option<(u32, usize, Direction, Option<Direction>)> = None;
         for dir in Direction::ALL {
             // The stand cell lies opposite to the direction it faces.
             let s = self.neighbours[i][(dir.index() + 2) % 4];
-            if s == NONE {
+            if s == NONE || (s as usize != robot && !self.travel.is_passable(s as usize)) {
                 continue;
             }
-            let d = self.distance(s as usize);
-            if d != u32::MAX && best.is_none_or(|(bd, _, _)| d < bd) {
-                best = Some((d, s as usize, dir));
+            let s = s as usize;
+            if let Some((d, step)) = self.toward(robot, s)
+                && best.is_none_or(|(bd, ..)| d < bd)
+            {
+                best = Some((d, s, dir, step));
             }
         }
-        best.map(|(_, s, dir)| (s, dir))
+        best
     }
 
-    /// The step from the robot toward reached cell `s` (`None` when the robot is in it).
-    fn step_toward(&mut self, s: usize, robot: usize) -> Option<Direction> {
-        debug_assert_eq!(robot, self.source);
-        self.travel
-            .first_step(robot, s)
-            .map(|k| Direction::from_index(usize::from(k)))
-    }
-
-    /// Path distance to cell of interest `i` (through its stand cell when unclassified), or
-    /// `None` when the robot can neither reach nor face it. Uses the last search.
-    fn target_distance(&self, map: &CellMap, i: usize) -> Option<u32> {
-        let cell = map.cells[i];
-        if !cell.is_of_interest() {
-            return None;
-        }
-        if cell.is_unclassified() {
-            self.stand_for(i).map(|(s, _)| self.distance(s) + 1)
-        } else {
-            let d = self.distance(i);
-            (d != u32::MAX).then_some(d)
-        }
-    }
-
-    /// The heading toward target cell `i` (reachable, see [`Explorer::target_distance`]).
-    fn heading_to(&mut self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
+    /// The heading toward cell of interest `i` (through its stand cell when unclassified:
+    /// the turn to face it once there), or `None` when the robot can neither reach nor face
+    /// it.
+    fn heading_to(&mut self, map: &CellMap, i: usize, robot: usize) -> Option<Option<Direction>> {
         if map.cells[i].is_unclassified() {
-            let (stand, face) = self.stand_for(i)?;
-            self.step_toward(stand, robot).or(Some(face))
+            let (_, _, face, step) = self.stand_for(i, robot)?;
+            Some(step.or(Some(face)))
         } else {
-            self.step_toward(i, robot)
+            self.toward(robot, i).map(|(_, step)| step)
         }
     }
 
@@ -405,17 +413,14 @@ impl Explorer {
             map.index(tc, tr)
                 .filter(|&t| t != robot && map.cells[t].is_of_interest())
         });
-        self.search(robot);
         self.partial = false;
         if let (Some(g), Some(t)) = (kept, kept_target)
-            && self.target_distance(map, t).is_some()
+            && let Some(heading) = self.heading_to(map, t, robot)
         {
             self.partial = true;
-            return Guidance {
-                heading: self.heading_to(map, t, robot),
-                ..g
-            };
+            return Guidance { heading, ..g };
         }
+        self.search(robot);
         // One pass over the cells of interest: eq. 7 per region and the best target per
         // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
         let mut utility = [0.0; 4];
@@ -473,7 +478,7 @@ impl Explorer {
         };
         let (_, _, target) = best[direction.index()].expect("chosen region has a target");
         let (col, row) = (target as i32 % self.cols, target as i32 / self.cols);
-        let heading = self.heading_to(map, target, robot);
+        let heading = self.heading_to(map, target, robot).flatten();
         Guidance {
             direction: Some(direction),
             target: Some((col, row)),
@@ -483,8 +488,7 @@ impl Explorer {
     }
 
     /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
-    /// that path's length; `None` when no such cell is reachable. Uses the distances of the
-    /// last [`Explorer::search_all`] (call it first).
+    /// that path's length; `None` when no such cell is reachable.
     pub fn toward_victim(
         &mut self,
         map: &CellMap,
@@ -497,8 +501,7 @@ impl Explorer {
         if self.partial && map.index(vc, vr) == Some(robot) {
             return None;
         }
-        let (stand, face) = self.stand_for(map.index(vc, vr)?)?;
-        let d = self.distance(stand);
-        Some((self.step_toward(stand, robot).unwrap_or(face), d))
+        let (d, _, face, step) = self.stand_for(map.index(vc, vr)?, robot)?;
+        Some((step.unwrap_or(face), d))
     }
 }

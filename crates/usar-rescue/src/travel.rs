@@ -82,6 +82,12 @@ impl TravelDistances {
         }
     }
 
+    /// Whether cell `i` is passable.
+    #[inline]
+    pub fn is_passable(&self, i: usize) -> bool {
+        self.template[i] == UNREACHED
+    }
+
     /// Records whether cell `i` is passable now.
     #[inline]
     pub fn set_passable(&mut self, i: usize, passable: bool) {
