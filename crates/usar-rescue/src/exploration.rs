@@ -15,7 +15,8 @@
 //! cell from which it faces x, plus one, when x is not classified yet); a cell of interest
 //! the robot can neither reach nor face has no travel distance and δ = 1 ("elsewhere"). The
 //! region with the largest utility among those holding a reachable cell of interest is the
-//! exploration direction D_E.
+//! exploration direction D_E. The travel distances are kept per source cell and updated as the
+//! map grows ([`crate::travel`]): a step costs look-ups, not a search.
 //!
 //! **From D_E to a heading.** The paper hands D_E to the navigation subtask and lets it learn to
 //! move that way through the rubble. Here the navigation subtask is given, besides D_E, the
@@ -228,7 +229,10 @@ pub struct Explorer {
     neighbours: Vec<[u32; 4]>,
     /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
     delta: Vec<f64>,
-    /// QUIRK (verification only): the last guide followed its kept target.
+    /// The last [`Explorer::guide`] followed its kept target and no
+    /// [`Explorer::search_all`] came since: a possible victim lying in the robot's own cell
+    /// is then not approached ([`Explorer::toward_victim`]), as when the distances came from
+    /// a search that stopped at the kept target (kept so that results stay identical).
     partial: bool,
 }
 
@@ -289,7 +293,8 @@ impl Explorer {
     /// Call after cell (col, row) of `map` changed: updates it and its eight neighbours.
     pub fn cell_changed(&mut self, map: &CellMap, col: i32, row: i32) {
         if let Some(i) = map.index(col, row) {
-            self.travel.set_passable(i, map.cells[i].is_known_passable());
+            self.travel
+                .set_passable(i, map.cells[i].is_known_passable());
         }
         for dr in -1..=1 {
             for dc in -1..=1 {
@@ -347,7 +352,8 @@ impl Explorer {
             self.search(robot);
             let d = self.distance(s);
             let step = self.travel.first_step(robot, s);
-            return (d != u32::MAX).then(|| (d, step.map(|k| Direction::from_index(usize::from(k)))));
+            return (d != u32::MAX)
+                .then(|| (d, step.map(|k| Direction::from_index(usize::from(k)))));
         }
         self.travel.update(s);
         let row = self.travel.row(s);
@@ -444,7 +450,13 @@ impl Explorer {
                 let d = if map.cells[i].is_unclassified() {
                     self.neighbours[i]
                         .iter()
-                        .map(|&s| if s == NONE { UNREACHED } else { dist[s as usize] })
+                        .map(|&s| {
+                            if s == NONE {
+                                UNREACHED
+                            } else {
+                                dist[s as usize]
+                            }
+                        })
                         .min()
                         .unwrap_or(UNREACHED)
                         .min(UNREACHED)
@@ -498,6 +510,8 @@ impl Explorer {
         vr: i32,
     ) -> Option<(Direction, u32)> {
         let robot = map.index(rc, rr)?;
+        // (A victim in the robot's own cell: the robot drove onto a warm object it took for
+        // a possible victim; see `partial`.)
         if self.partial && map.index(vc, vr) == Some(robot) {
             return None;
         }

@@ -71,7 +71,9 @@ impl TravelDistances {
                 .map(|nb| nb.map(|k| if k == NONE { n as u32 } else { k }))
                 .collect(),
             template: vec![BLOCKED; w],
-            dist: vec![BLOCKED; n * w],
+            // Never read before the row's first rebuild (`epoch_of` is 0): zeroed memory,
+            // which the allocator gives without writing it.
+            dist: vec![0; n * w],
             epoch_of: vec![0; n],
             applied: vec![0; n],
             epoch: 1,
