@@ -227,6 +227,9 @@ pub struct Explorer {
     source: usize,
     /// The four neighbours of each cell by [`Direction::index`], [`NONE`] outside the map.
     neighbours: Vec<[u32; 4]>,
+    /// The eight neighbours of each cell in [`usar_world::NEIGHBORS8`] order, [`NONE`]
+    /// outside the map (for λ, eq. 9).
+    neighbours8: Vec<[u32; 8]>,
     /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
     delta: Vec<f64>,
     /// The last [`Explorer::guide`] followed its kept target and no
@@ -252,6 +255,13 @@ impl Explorer {
                 }
             }
         }
+        let neighbours8 = (0..n)
+            .map(|i| {
+                let (col, row) = (i as i32 % map.cols, i as i32 / map.cols);
+                usar_world::NEIGHBORS8
+                    .map(|(dc, dr)| map.index(col + dc, row + dr).map_or(NONE, |k| k as u32))
+            })
+            .collect();
         let delta = (0..=n)
             .map(|d| weights.travel_coefficient_at(d as f64))
             .collect();
@@ -262,6 +272,7 @@ impl Explorer {
             travel: TravelDistances::new(&neighbours),
             source: 0,
             neighbours,
+            neighbours8,
             delta,
             partial: false,
         };
@@ -279,11 +290,10 @@ impl Explorer {
             self.omega_lambda[i] = 0.0;
             return;
         }
-        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         let mut sum = 0.0;
-        for &(dc, dr) in &usar_world::NEIGHBORS8 {
-            if let Some(k) = map.index(col + dc, row + dr) {
-                sum += self.weights.neighbour_value(map.cells[k]);
+        for &k in &self.neighbours8[i] {
+            if k != NONE {
+                sum += self.weights.neighbour_value(map.cells[k as usize]);
             }
         }
         let lambda = if sum != 0.0 { sum } else { 1.0 };
@@ -295,11 +305,10 @@ impl Explorer {
         if let Some(i) = map.index(col, row) {
             self.travel
                 .set_passable(i, map.cells[i].is_known_passable());
-        }
-        for dr in -1..=1 {
-            for dc in -1..=1 {
-                if let Some(i) = map.index(col + dc, row + dr) {
-                    self.refresh(map, i);
+            self.refresh(map, i);
+            for k in self.neighbours8[i] {
+                if k != NONE {
+                    self.refresh(map, k as usize);
                 }
             }
         }
