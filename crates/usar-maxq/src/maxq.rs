@@ -238,17 +238,31 @@ impl MaxqQ {
         s: &S,
         tilde: bool,
     ) -> Option<(usize, f64)> {
+        self.best_child_value(h, i, s, tilde)
+            .map(|(k, q, _)| (k, q))
+    }
+
+    /// As [`MaxqQ::best_child`], with V(child, s) of the chosen child as well (so that eq. 3
+    /// does not evaluate it twice).
+    fn best_child_value<S>(
+        &self,
+        h: &impl Hierarchy<S>,
+        i: NodeId,
+        s: &S,
+        tilde: bool,
+    ) -> Option<(usize, f64, f64)> {
         let abs = h.abstraction(i, s);
         let children = self.children(i);
         let table = if tilde { &self.c_tilde[i] } else { &self.c[i] };
-        let mut best: Option<(usize, f64)> = None;
+        let mut best: Option<(usize, f64, f64)> = None;
         for (k, &a) in children.iter().enumerate() {
             if !self.eligible(h, a, s) {
                 continue;
             }
-            let q = self.value(h, a, s) + table.values[abs * children.len() + k];
-            if best.is_none_or(|(_, b)| q > b) {
-                best = Some((k, q));
+            let v = self.value(h, a, s);
+            let q = v + table.values[abs * children.len() + k];
+            if best.is_none_or(|(_, b, _)| q > b) {
+                best = Some((k, q, v));
             }
         }
         best
@@ -350,10 +364,8 @@ impl MaxqQ {
         let (target, target_tilde) = if ended {
             (0.0, h.pseudo_reward(i, next))
         } else {
-            match self.best_child(h, i, next, true) {
-                Some((best, _)) => {
-                    let a_star = self.children(i)[best];
-                    let v = self.value(h, a_star, next);
+            match self.best_child_value(h, i, next, true) {
+                Some((best, _, v)) => {
                     let abs_next = h.abstraction(i, next) * n_children + best;
                     (
                         self.c[i].values[abs_next] + v,

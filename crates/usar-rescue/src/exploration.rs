@@ -15,7 +15,8 @@
 //! cell from which it faces x, plus one, when x is not classified yet); a cell of interest
 //! the robot can neither reach nor face has no travel distance and δ = 1 ("elsewhere"). The
 //! region with the largest utility among those holding a reachable cell of interest is the
-//! exploration direction D_E.
+//! exploration direction D_E. The travel distances are kept per source cell and updated as the
+//! map grows ([`crate::travel`]): a step costs look-ups, not a search.
 //!
 //! **From D_E to a heading.** The paper hands D_E to the navigation subtask and lets it learn to
 //! move that way through the rubble. Here the navigation subtask is given, besides D_E, the
@@ -27,6 +28,7 @@
 //! of following a compass direction through rubble (the paper's 1 786–2 026 steps per scene).
 
 use crate::cell_map::{CellMap, MapCell};
+use crate::travel::{TravelDistances, UNREACHED};
 use serde::{Deserialize, Serialize};
 
 /// A search direction / region (paper 000 Fig. 5), also a grid heading.
@@ -211,24 +213,30 @@ pub struct Guidance {
 }
 
 /// The exploration state over a robot's map: ω·λ per cell kept up to date as the map changes,
-/// and the buffers of the path search, so that choosing a direction allocates nothing.
+/// and the travel distances of eq. 10 ([`TravelDistances`]), so that choosing a direction
+/// allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Explorer {
     pub weights: ExplorationWeights,
     cols: i32,
     /// ω_x·λ_x of every cell of interest, 0 for the other cells.
     omega_lambda: Vec<f64>,
-    /// Path distance (steps) from the robot through known passable cells; u32::MAX unreached.
-    distance: Vec<u32>,
-    /// First step from the robot toward each reached cell (Direction index).
-    first_step: Vec<u8>,
-    queue: Vec<u32>,
+    /// Path distances through known passable cells from every cell the robot stood on.
+    travel: TravelDistances,
+    /// The robot's cell of the last search: the row of `travel` in use.
+    source: usize,
     /// The four neighbours of each cell by [`Direction::index`], [`NONE`] outside the map.
     neighbours: Vec<[u32; 4]>,
+    /// The eight neighbours of each cell in [`usar_world::NEIGHBORS8`] order, [`NONE`]
+    /// outside the map (for λ, eq. 9).
+    neighbours8: Vec<[u32; 8]>,
     /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
     delta: Vec<f64>,
-    /// The start of the last search when it was complete (not stopped at a goal).
-    complete_from: Option<usize>,
+    /// The last [`Explorer::guide`] followed its kept target and no
+    /// [`Explorer::search_all`] came since: a possible victim lying in the robot's own cell
+    /// is then not approached ([`Explorer::toward_victim`]), as when the distances came from
+    /// a search that stopped at the kept target (kept so that results stay identical).
+    partial: bool,
 }
 
 /// No cell.
@@ -247,6 +255,13 @@ impl Explorer {
                 }
             }
         }
+        let neighbours8 = (0..n)
+            .map(|i| {
+                let (col, row) = (i as i32 % map.cols, i as i32 / map.cols);
+                usar_world::NEIGHBORS8
+                    .map(|(dc, dr)| map.index(col + dc, row + dr).map_or(NONE, |k| k as u32))
+            })
+            .collect();
         let delta = (0..=n)
             .map(|d| weights.travel_coefficient_at(d as f64))
             .collect();
@@ -254,15 +269,16 @@ impl Explorer {
             weights,
             cols: map.cols,
             omega_lambda: vec![0.0; n],
-            distance: vec![u32::MAX; n],
-            first_step: vec![0; n],
-            queue: Vec::with_capacity(n),
+            travel: TravelDistances::new(&neighbours),
+            source: 0,
             neighbours,
+            neighbours8,
             delta,
-            complete_from: None,
+            partial: false,
         };
         for i in 0..n {
             e.refresh(map, i);
+            e.travel.set_passable(i, map.cells[i].is_known_passable());
         }
         e
     }
@@ -274,11 +290,10 @@ impl Explorer {
             self.omega_lambda[i] = 0.0;
             return;
         }
-        let (col, row) = (i as i32 % self.cols, i as i32 / self.cols);
         let mut sum = 0.0;
-        for &(dc, dr) in &usar_world::NEIGHBORS8 {
-            if let Some(k) = map.index(col + dc, row + dr) {
-                sum += self.weights.neighbour_value(map.cells[k]);
+        for &k in &self.neighbours8[i] {
+            if k != NONE {
+                sum += self.weights.neighbour_value(map.cells[k as usize]);
             }
         }
         let lambda = if sum != 0.0 { sum } else { 1.0 };
@@ -287,10 +302,13 @@ impl Explorer {
 
     /// Call after cell (col, row) of `map` changed: updates it and its eight neighbours.
     pub fn cell_changed(&mut self, map: &CellMap, col: i32, row: i32) {
-        for dr in -1..=1 {
-            for dc in -1..=1 {
-                if let Some(i) = map.index(col + dc, row + dr) {
-                    self.refresh(map, i);
+        if let Some(i) = map.index(col, row) {
+            self.travel
+                .set_passable(i, map.cells[i].is_known_passable());
+            self.refresh(map, i);
+            for k in self.neighbours8[i] {
+                if k != NONE {
+                    self.refresh(map, k as usize);
                 }
             }
         }
@@ -302,115 +320,97 @@ impl Explorer {
         self.omega_lambda[i]
     }
 
-    /// Breadth-first path distances from cell `start` through known passable cells, with the
-    /// first step of a shortest path to each reached cell. With a `goal` the search stops as
-    /// soon as the goal (or, for a goal the robot cannot enter, the first cell facing it) is
-    /// reached: the distances of the cells met so far are final.
-    fn search(&mut self, map: &CellMap, start: usize, goal: Option<usize>) {
-        self.distance.fill(u32::MAX);
-        self.queue.clear();
-        self.complete_from = None;
-        self.distance[start] = 0;
-        self.queue.push(start as u32);
-        // A goal the robot cannot enter (unclassified, a victim) is reached from a neighbour.
-        let goal_unclassified = goal.is_some_and(|g| !map.cells[g].is_known_passable());
-        let goal = goal.map_or(NONE, |g| g as u32);
-        let mut head = 0;
-        while head < self.queue.len() {
-            let i = self.queue[head] as usize;
-            head += 1;
-            let nb = self.neighbours[i];
-            if i as u32 == goal || (goal_unclassified && nb.contains(&goal)) {
-                return;
-            }
-            let d = self.distance[i];
-            for (dir, &k) in nb.iter().enumerate() {
-                if k == NONE {
-                    continue;
-                }
-                let k = k as usize;
-                if self.distance[k] != u32::MAX || !map.cells[k].is_known_passable() {
-                    continue;
-                }
-                self.distance[k] = d + 1;
-                self.first_step[k] = if i == start {
-                    dir as u8
-                } else {
-                    self.first_step[i]
-                };
-                self.queue.push(k as u32);
-            }
-        }
-        self.complete_from = Some(start);
+    /// Path distances from cell `start` through known passable cells (breadth-first
+    /// distances, kept up to date incrementally by [`TravelDistances`]).
+    fn search(&mut self, start: usize) {
+        self.travel.update(start);
+        self.source = start;
     }
 
-    /// Path distances from the robot at (rc, rr) to every cell it can reach (for
-    /// [`Explorer::toward_victim`]; [`Explorer::guide`] may stop its search early). Reuses
-    /// the last search when it was complete and from the same cell: call it right after
-    /// `guide`, on the same map.
-    pub fn search_all(&mut self, map: &CellMap, rc: i32, rr: i32) {
-        if let Some(start) = map.index(rc, rr)
-            && self.complete_from != Some(start)
-        {
-            self.search(map, start, None);
-        }
-    }
-
-    /// Path distances from the robot at (rc, rr) until the cells facing (gc, gr) are reached
-    /// (for [`Explorer::toward_victim`] with a single victim to approach).
-    pub fn search_toward(&mut self, map: &CellMap, rc: i32, rr: i32, gc: i32, gr: i32) {
-        if let (Some(start), Some(goal)) = (map.index(rc, rr), map.index(gc, gr))
-            && self.complete_from != Some(start)
-        {
-            self.search(map, start, Some(goal));
-        }
-    }
-
-    /// The reached neighbour from which the robot can face unclassified cell `i`, and the
-    /// direction it then faces: the nearest one by path.
+    /// Path distance of cell `k` from the robot by the last search; `u32::MAX` unreached.
     #[inline]
-    fn stand_for(&self, i: usize) -> Option<(usize, Direction)> {
-        let mut best: Option<(u32, usize, Direction)> = None;
+    fn distance(&self, k: usize) -> u32 {
+        match self.travel.row(self.source)[k] {
+            d if d >= UNREACHED => u32::MAX,
+            d => u32::from(d),
+        }
+    }
+
+    /// Prepares [`Explorer::toward_victim`] for several possible victims (the distances it
+    /// needs are kept per cell: nothing to search).
+    pub fn search_all(&mut self, _map: &CellMap, _rc: i32, _rr: i32) {
+        self.partial = false;
+    }
+
+    /// Prepares [`Explorer::toward_victim`] for a single possible victim at (gc, gr).
+    pub fn search_toward(&mut self, _map: &CellMap, _rc: i32, _rr: i32, _gc: i32, _gr: i32) {}
+
+    /// Path distance from the robot's cell to reached cell `s` and the first step toward it
+    /// (`None` when the robot is in `s`); `None` when `s` cannot be reached.
+    ///
+    /// Read from the distances *from `s`* (the graph is undirected): the first step of the
+    /// breadth-first search from the robot is the first neighbour, in the order E N W S, one
+    /// step nearer to `s` ([`crate::travel`]). A target's distances stay valid while the robot
+    /// follows it, so a step costs a few look-ups instead of a search.
+    fn toward(&mut self, robot: usize, s: usize) -> Option<(u32, Option<Direction>)> {
+        if s == robot {
+            return Some((0, None));
+        }
+        if !self.travel.is_passable(robot) {
+            // (Never on a map built by the domain: the robot stands on a visited cell.)
+            self.search(robot);
+            let d = self.distance(s);
+            let step = self.travel.first_step(robot, s);
+            return (d != u32::MAX)
+                .then(|| (d, step.map(|k| Direction::from_index(usize::from(k)))));
+        }
+        self.travel.update(s);
+        let row = self.travel.row(s);
+        let d = row[robot];
+        if d >= UNREACHED {
+            return None;
+        }
+        let step = self.neighbours[robot]
+            .iter()
+            .position(|&k| k != NONE && row[k as usize] == d - 1)
+            .map(Direction::from_index);
+        Some((u32::from(d), step))
+    }
+
+    /// The reached neighbour from which the robot can face unclassified cell `i`: the nearest
+    /// one by path (ties: the first facing direction in E N W S order), with its distance, the
+    /// direction it faces and the first step toward it.
+    fn stand_for(
+        &mut self,
+        i: usize,
+        robot: usize,
+    ) -> Option<(u32, usize, Direction, Option<Direction>)> {
+        let mut best: Option<(u32, usize, Direction, Option<Direction>)> = None;
         for dir in Direction::ALL {
             // The stand cell lies opposite to the direction it faces.
             let s = self.neighbours[i][(dir.index() + 2) % 4];
-            if s == NONE {
+            if s == NONE || (s as usize != robot && !self.travel.is_passable(s as usize)) {
                 continue;
             }
-            let d = self.distance[s as usize];
-            if d != u32::MAX && best.is_none_or(|(bd, _, _)| d < bd) {
-                best = Some((d, s as usize, dir));
+            let s = s as usize;
+            if let Some((d, step)) = self.toward(robot, s)
+                && best.is_none_or(|(bd, ..)| d < bd)
+            {
+                best = Some((d, s, dir, step));
             }
         }
-        best.map(|(_, s, dir)| (s, dir))
+        best
     }
 
-    /// The step from the robot toward reached cell `s` (`None` when the robot is in it).
-    fn step_toward(&self, s: usize, robot: usize) -> Option<Direction> {
-        (s != robot).then(|| Direction::from_index(usize::from(self.first_step[s])))
-    }
-
-    /// Path distance to cell of interest `i` (through its stand cell when unclassified), or
-    /// `None` when the robot can neither reach nor face it. Uses the last search.
-    fn target_distance(&self, map: &CellMap, i: usize) -> Option<u32> {
-        let cell = map.cells[i];
-        if !cell.is_of_interest() {
-            return None;
-        }
-        if cell.is_unclassified() {
-            self.stand_for(i).map(|(s, _)| self.distance[s] + 1)
-        } else {
-            (self.distance[i] != u32::MAX).then_some(self.distance[i])
-        }
-    }
-
-    /// The heading toward target cell `i` (reachable, see [`Explorer::target_distance`]).
-    fn heading_to(&self, map: &CellMap, i: usize, robot: usize) -> Option<Direction> {
+    /// The heading toward cell of interest `i` (through its stand cell when unclassified:
+    /// the turn to face it once there), or `None` when the robot can neither reach nor face
+    /// it.
+    fn heading_to(&mut self, map: &CellMap, i: usize, robot: usize) -> Option<Option<Direction>> {
         if map.cells[i].is_unclassified() {
-            let (stand, face) = self.stand_for(i)?;
-            self.step_toward(stand, robot).or(Some(face))
+            let (_, _, face, step) = self.stand_for(i, robot)?;
+            Some(step.or(Some(face)))
         } else {
-            self.step_toward(i, robot)
+            self.toward(robot, i).map(|(_, step)| step)
         }
     }
 
@@ -428,22 +428,21 @@ impl Explorer {
             map.index(tc, tr)
                 .filter(|&t| t != robot && map.cells[t].is_of_interest())
         });
-        self.search(map, robot, kept_target);
+        self.partial = false;
         if let (Some(g), Some(t)) = (kept, kept_target)
-            && self.target_distance(map, t).is_some()
+            && let Some(heading) = self.heading_to(map, t, robot)
         {
-            return Guidance {
-                heading: self.heading_to(map, t, robot),
-                ..g
-            };
+            self.partial = true;
+            return Guidance { heading, ..g };
         }
-        // (The search stopped early only when it reached the kept target: it is complete.)
+        self.search(robot);
         // One pass over the cells of interest: eq. 7 per region and the best target per
         // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
         let mut utility = [0.0; 4];
         let mut best: [Option<(f64, u32, usize)>; 4] = [None; 4];
         let cols = self.cols as usize;
         let last = self.delta.len() - 1;
+        let dist = self.travel.row(robot);
         for (row, cells) in self.omega_lambda.chunks_exact(cols).enumerate() {
             let dy = row as i32 - rr;
             for (col, &ol) in cells.iter().enumerate() {
@@ -455,7 +454,26 @@ impl Explorer {
                 let Some(region) = region_of(dx, dy) else {
                     continue;
                 };
-                let d = self.target_distance(map, i);
+                // As `target_distance`, inline: through the nearest stand cell when the cell
+                // is unclassified.
+                let d = if map.cells[i].is_unclassified() {
+                    self.neighbours[i]
+                        .iter()
+                        .map(|&s| {
+                            if s == NONE {
+                                UNREACHED
+                            } else {
+                                dist[s as usize]
+                            }
+                        })
+                        .min()
+                        .unwrap_or(UNREACHED)
+                        .min(UNREACHED)
+                        .saturating_add(1)
+                } else {
+                    dist[i]
+                };
+                let d = (d < UNREACHED).then_some(u32::from(d));
                 let delta = d.map_or(1.0, |d| self.delta[(d as usize).min(last)]);
                 let value = ol * delta;
                 utility[region.index()] += value;
@@ -481,7 +499,7 @@ impl Explorer {
         };
         let (_, _, target) = best[direction.index()].expect("chosen region has a target");
         let (col, row) = (target as i32 % self.cols, target as i32 / self.cols);
-        let heading = self.heading_to(map, target, robot);
+        let heading = self.heading_to(map, target, robot).flatten();
         Guidance {
             direction: Some(direction),
             target: Some((col, row)),
@@ -491,10 +509,9 @@ impl Explorer {
     }
 
     /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
-    /// that path's length; `None` when no such cell is reachable. Uses the distances of the
-    /// last [`Explorer::search_all`] (call it first).
+    /// that path's length; `None` when no such cell is reachable.
     pub fn toward_victim(
-        &self,
+        &mut self,
         map: &CellMap,
         rc: i32,
         rr: i32,
@@ -502,8 +519,12 @@ impl Explorer {
         vr: i32,
     ) -> Option<(Direction, u32)> {
         let robot = map.index(rc, rr)?;
-        let (stand, face) = self.stand_for(map.index(vc, vr)?)?;
-        let d = self.distance[stand];
-        Some((self.step_toward(stand, robot).unwrap_or(face), d))
+        // (A victim in the robot's own cell: the robot drove onto a warm object it took for
+        // a possible victim; see `partial`.)
+        if self.partial && map.index(vc, vr) == Some(robot) {
+            return None;
+        }
+        let (d, _, face, step) = self.stand_for(map.index(vc, vr)?, robot)?;
+        Some((step.unwrap_or(face), d))
     }
 }

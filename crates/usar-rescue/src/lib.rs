@@ -36,6 +36,7 @@ pub mod rewards;
 pub mod state;
 pub mod teleoperation;
 pub mod training;
+pub mod travel;
 
 pub use self::domain::{DomainConfig, RescueDomain, RescueScene, RunStats, VictimMark};
 pub use self::hierarchy::RescueHierarchy;

@@ -1,1 +1,2 @@
 mod rescue;
+mod travel;
