@@ -529,14 +529,14 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             return;
         }
         let mut best: Option<(u32, usize, Option<Direction>)> = None;
-        let mut pending = self.victims.iter().filter(|v| v.status == Status::Pending);
-        match (pending.next(), pending.next()) {
-            (None, _) => {}
-            (Some(v), None) => {
-                let (vc, vr) = v.cell;
-                self.explorer.search_toward(&self.map, c.col, c.row, vc, vr);
-            }
-            _ => self.explorer.search_all(&self.map, c.col, c.row),
+        if self
+            .victims
+            .iter()
+            .filter(|v| v.status == Status::Pending)
+            .nth(1)
+            .is_some()
+        {
+            self.explorer.several_victims_pending();
         }
         for (k, v) in self.victims.iter().enumerate() {
             if v.status != Status::Pending {

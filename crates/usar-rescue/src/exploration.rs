@@ -233,7 +233,7 @@ pub struct Explorer {
     /// δ (eq. 10) by travel distance in cells (the last entry for every longer distance).
     delta: Vec<f64>,
     /// The last [`Explorer::guide`] followed its kept target and no
-    /// [`Explorer::search_all`] came since: a possible victim lying in the robot's own cell
+    /// [`Explorer::several_victims_pending`] came since: a possible victim lying in the robot's own cell
     /// is then not approached ([`Explorer::toward_victim`]), as when the distances came from
     /// a search that stopped at the kept target (kept so that results stay identical).
     partial: bool,
@@ -336,14 +336,12 @@ impl Explorer {
         }
     }
 
-    /// Prepares [`Explorer::toward_victim`] for several possible victims (the distances it
-    /// needs are kept per cell: nothing to search).
-    pub fn search_all(&mut self, _map: &CellMap, _rc: i32, _rr: i32) {
+    /// Several possible victims are pending: [`Explorer::toward_victim`] then approaches one
+    /// lying in the robot's own cell too (the distances it needs are kept per cell; see
+    /// `partial`).
+    pub fn several_victims_pending(&mut self) {
         self.partial = false;
     }
-
-    /// Prepares [`Explorer::toward_victim`] for a single possible victim at (gc, gr).
-    pub fn search_toward(&mut self, _map: &CellMap, _rc: i32, _rr: i32, _gc: i32, _gr: i32) {}
 
     /// Path distance from the robot's cell to reached cell `s` and the first step toward it
     /// (`None` when the robot is in `s`); `None` when `s` cannot be reached.
