@@ -88,12 +88,13 @@ pub struct BuildConfig {
     pub obstacle_speed_factor: f64,
 
     // --- Localisation ---
-    /// Correct odometry by matching each scan against a key scan (point-to-line ICP).
+    /// Correct odometry by matching each scan against the robot's own map of the scans it
+    /// took before (point-to-line ICP, [`crate::build::scan_map`]).
     pub scan_matching: bool,
-    /// A new key scan is taken after this distance ...
+    /// The scan is drawn into that map after this distance driven ...
     pub keyframe_distance_m: f64,
-    /// ... or this turn (π: a 360° scan overlaps its key scan whatever the turn, and every
-    /// new key scan adds its own small error).
+    /// ... or this turn since it was last drawn (0.25 m and 0.25 rad: a new corridor is in
+    /// the map before the robot has driven far into it).
     pub keyframe_angle_rad: f64,
 
     // --- Run ---
@@ -133,8 +134,8 @@ impl Default for BuildConfig {
             wall_distance_m: 0.7,
             obstacle_speed_factor: 0.6,
             scan_matching: true,
-            keyframe_distance_m: 1.0,
-            keyframe_angle_rad: std::f64::consts::PI,
+            keyframe_distance_m: 0.25,
+            keyframe_angle_rad: 0.25,
             max_time_s: 3600.0,
             dt_s: 0.1,
         }

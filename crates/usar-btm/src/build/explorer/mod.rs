@@ -232,6 +232,11 @@ impl<'a> Explorer<'a> {
             time_s: self.sim.time_s(),
             distance_m: robot.distance_m,
             collisions: robot.collisions,
+            max_position_error_m: self
+                .trajectory
+                .iter()
+                .map(|s| s.estimated.position().distance(s.truth.position()))
+                .fold(0.0, f64::max),
             scan_matches: self.loc.matched,
             scan_match_rejections: self.loc.rejected,
             trajectory: self.trajectory,
@@ -292,6 +297,7 @@ impl<'a> Explorer<'a> {
             estimated: self.loc.pose(),
             truth: robot.pose,
             mode: self.mode,
+            contact: robot.in_contact(),
         });
     }
 
