@@ -1,17 +1,18 @@
 //! Where the robot thinks it is: odometry, corrected by matching each horizontal scan against
-//! the robot's own map of the scans it took before ([`ScanMap`]). Node coordinates are taken
-//! in this estimate; the simulator's true pose is never read.
+//! a key scan (point-to-line ICP, Censi's PL-ICP without the closed form), or — with
+//! [`BuildConfig::scan_map`](crate::build::BuildConfig::scan_map) — against the robot's own
+//! map of all the scans it took before ([`ScanMap`]). Node coordinates are taken in this
+//! estimate; the simulator's true pose is never read.
 //!
 //! Odometry alone drifts by several degrees of heading over a course (the simulator's
 //! rotation noise is 0.02 rad per √rad turned), which would put far nodes metres away.
 //! While the robot is on an obstacle the horizontal laser sees the rising floor ahead (or
-//! behind) as a wall that moves with the robot, and a match would hold the robot back:
-//! odometry alone carries it across, and the map is not drawn. Back on level floor, the
-//! heading is corrected from the direction of the straight walls to its sides, compared with
-//! the last level scan before the obstacle; then map matching resumes.
+//! behind) as a wall that moves with the robot, and ICP would hold the robot back: odometry
+//! alone carries it across. Back on level floor, the heading is corrected from the direction
+//! of the straight walls to its sides, compared with the last key scan before the obstacle.
 
 use crate::build::scan::ScanView;
-use crate::build::scan_map::ScanMap;
+use crate::build::scan_map::{ScanMap, solve3};
 use usar_world::{Point2, Pose2, normalize_angle};
 
 /// a ⊕ b: pose `b` given in the frame of `a`, expressed in the frame `a` is given in.
@@ -33,6 +34,8 @@ pub fn relative(a: Pose2, b: Pose2) -> Pose2 {
 struct KeyScan {
     pose: Pose2,
     beams: Vec<Option<Point2>>,
+    angle_min_rad: f64,
+    angle_increment_rad: f64,
 }
 
 /// Cell size of the robot's map, metres (the residual is point to line: the cell size only
@@ -41,14 +44,21 @@ pub const MAP_RESOLUTION_M: f64 = 0.1;
 /// How far from a cell its partner outline point is looked for, metres: larger than any
 /// correction accepted.
 pub const MAP_REACH_M: f64 = 0.5;
+/// The scan is drawn into the map after this distance driven or this turn since it was last
+/// drawn: a new corridor is in the map before the robot has driven far into it.
+pub const MAP_DRAW_DISTANCE_M: f64 = 0.25;
+pub const MAP_DRAW_ANGLE_RAD: f64 = 0.25;
 
 /// Odometry with scan-matching corrections.
 pub struct Localizer {
     pose: Pose2,
     last_odometry: Pose2,
-    /// The robot's map (drawn on level floor only) and the pose it was last drawn from.
-    map: ScanMap,
+    /// The robot's map (drawn on level floor only) and the pose it was last drawn from, when
+    /// matching against the map instead of the key scan.
+    map: Option<ScanMap>,
     drawn_at: Option<Pose2>,
+    /// Always taken on level floor.
+    key: Option<KeyScan>,
     /// Whether the last scan was taken on an obstacle.
     on_obstacle: bool,
     /// The last scan taken on level floor before an obstacle, with its pose.
@@ -74,8 +84,9 @@ impl Localizer {
         Self {
             pose: start,
             last_odometry: odometry,
-            map: ScanMap::new(MAP_RESOLUTION_M, MAP_REACH_M),
+            map: None,
             drawn_at: None,
+            key: None,
             on_obstacle: false,
             last_level: None,
             level_again_at: None,
@@ -85,6 +96,12 @@ impl Localizer {
             matched: 0,
             rejected: 0,
         }
+    }
+
+    /// Matches against the robot's own map instead of the last key scan.
+    pub fn with_map(mut self) -> Self {
+        self.map = Some(ScanMap::new(MAP_RESOLUTION_M, MAP_REACH_M));
+        self
     }
 
     /// The current estimate.
@@ -137,26 +154,31 @@ impl Localizer {
                 None => self.rejected += 1,
             }
             self.level_again_at = None;
+            self.take_key(scan);
             self.last_level = Some(self.snapshot(scan));
             return;
         }
-        if self.map.is_empty() {
-            self.draw(scan);
+        if self.map.is_some() {
+            self.correct_on_map(scan);
+            self.last_level = Some(self.snapshot(scan));
             return;
         }
-        match self.map.match_scan(&scan.points, self.pose) {
-            Some(pose) => {
-                self.pose = pose;
+        let Some(key) = &self.key else {
+            self.take_key(scan);
+            return;
+        };
+        let guess = relative(key.pose, self.pose);
+        match match_scan(key, scan, guess) {
+            Some(t) => {
+                self.pose = compose(key.pose, t);
                 self.matched += 1;
             }
             None => self.rejected += 1,
         }
-        let due = self.drawn_at.is_none_or(|at| {
-            self.pose.position().distance(at.position()) > self.keyframe_distance_m
-                || normalize_angle(self.pose.theta - at.theta).abs() > self.keyframe_angle_rad
-        });
-        if due {
-            self.draw(scan);
+        let moved = self.pose.position().distance(key.pose.position());
+        let turned = normalize_angle(self.pose.theta - key.pose.theta).abs();
+        if moved > self.keyframe_distance_m || turned > self.keyframe_angle_rad {
+            self.take_key(scan);
         }
         self.last_level = Some(self.snapshot(scan));
     }
@@ -165,18 +187,47 @@ impl Localizer {
         KeyScan {
             pose: self.pose,
             beams: scan.beams.clone(),
+            angle_min_rad: scan.angle_min_rad,
+            angle_increment_rad: scan.angle_increment_rad,
         }
     }
 
-    fn draw(&mut self, scan: &ScanView) {
-        self.map.insert(self.pose, &scan.beams);
-        self.drawn_at = Some(self.pose);
+    fn take_key(&mut self, scan: &ScanView) {
+        self.key = Some(self.snapshot(scan));
+    }
+
+    /// Matches `scan` against the map, then draws it when the robot has moved on enough.
+    fn correct_on_map(&mut self, scan: &ScanView) {
+        let Some(map) = &mut self.map else { return };
+        if !map.is_empty() {
+            match map.match_scan(&scan.points, self.pose) {
+                Some(pose) => {
+                    self.pose = pose;
+                    self.matched += 1;
+                }
+                None => self.rejected += 1,
+            }
+        }
+        let due = self.drawn_at.is_none_or(|at| {
+            self.pose.position().distance(at.position()) > MAP_DRAW_DISTANCE_M
+                || normalize_angle(self.pose.theta - at.theta).abs() > MAP_DRAW_ANGLE_RAD
+        });
+        if due {
+            map.insert(self.pose, &scan.beams);
+            self.drawn_at = Some(self.pose);
+        }
     }
 }
+/// Beams searched either side of the projected one.
+const SEARCH_BEAMS: i64 = 3;
+const ITERATIONS: usize = 12;
+const MIN_PAIRS: usize = 40;
 /// Level distance driven after an obstacle before its heading is corrected, metres.
 const BRIDGE_DELAY_M: f64 = 0.6;
 /// Distance over which the heading correction is tried again, metres.
 const BRIDGE_TRIES_M: f64 = 1.5;
+/// A key point farther than this from the line through its neighbours is on a corner.
+const COLLINEAR_M: f64 = 0.02;
 /// tan 50°: "to the side" is within 40° of ±90°.
 const SIDE_TAN: f64 = 1.192;
 /// Side walls are used for the heading only when straight to within this, metres ...
@@ -251,6 +302,89 @@ fn match_heading(key: &KeyScan, scan: &ScanView, predicted: f64) -> Option<f64> 
     (mean.abs() < 0.1).then(|| normalize_angle(predicted + mean))
 }
 
+/// Pose of `scan` in the frame of `key`, starting from `guess`; `None` when too few points
+/// correspond.
+fn match_scan(key: &KeyScan, scan: &ScanView, guess: Pose2) -> Option<Pose2> {
+    let n = key.beams.len() as i64;
+    if n == 0 || key.angle_increment_rad <= 0.0 {
+        return None;
+    }
+    let mut t = guess;
+    let mut pairs = 0;
+    for iteration in 0..ITERATIONS {
+        let max_d = if iteration < 4 { 0.3 } else { 0.1 };
+        let mut h = [[0.0f64; 3]; 3];
+        let mut g = [0.0f64; 3];
+        pairs = 0;
+        for p in scan.points.iter().step_by(2) {
+            let q = t.to_world(*p);
+            let bearing = normalize_angle(q.y.atan2(q.x) - key.angle_min_rad);
+            let j = (bearing.rem_euclid(std::f64::consts::TAU) / key.angle_increment_rad).round()
+                as i64;
+            let mut best: Option<(f64, i64, Point2)> = None;
+            for k in j - SEARCH_BEAMS..=j + SEARCH_BEAMS {
+                if let Some(m) = key.beams[k.rem_euclid(n) as usize] {
+                    let d = m.distance_squared(q);
+                    if best.is_none_or(|b| d < b.0) {
+                        best = Some((d, k, m));
+                    }
+                }
+            }
+            let Some((d2, k, m)) = best else { continue };
+            if d2 > max_d * max_d {
+                continue;
+            }
+            // The line through the key point's two neighbours, used only where the three are
+            // collinear: at a corner a one-sided neighbour would tilt the normal and bias the
+            // heading.
+            let (Some(a), Some(b)) = (
+                key.beams[(k - 1).rem_euclid(n) as usize],
+                key.beams[(k + 1).rem_euclid(n) as usize],
+            ) else {
+                continue;
+            };
+            let len = a.distance(b);
+            if !(1e-6..0.4).contains(&len) {
+                continue;
+            }
+            let normal = ((a.y - b.y) / len, (b.x - a.x) / len);
+            if (normal.0 * (m.x - a.x) + normal.1 * (m.y - a.y)).abs() > COLLINEAR_M {
+                continue;
+            }
+            let r = normal.0 * (q.x - m.x) + normal.1 * (q.y - m.y);
+            let jac = [normal.0, normal.1, normal.0 * -q.y + normal.1 * q.x];
+            for a in 0..3 {
+                g[a] += jac[a] * r;
+                for b in 0..3 {
+                    h[a][b] += jac[a] * jac[b];
+                }
+            }
+            pairs += 1;
+        }
+        if pairs < MIN_PAIRS {
+            return None;
+        }
+        let damping = 0.01 * pairs as f64;
+        for (a, row) in h.iter_mut().enumerate() {
+            row[a] += damping;
+        }
+        let delta = solve3(h, [-g[0], -g[1], -g[2]])?;
+        let (s, c) = delta[2].sin_cos();
+        t = Pose2::new(
+            c * t.x - s * t.y + delta[0],
+            s * t.x + c * t.y + delta[1],
+            normalize_angle(t.theta + delta[2]),
+        );
+        if delta[0].abs() + delta[1].abs() < 1e-5 && delta[2].abs() < 1e-6 {
+            break;
+        }
+    }
+    // A correction far from odometry is a false match.
+    let jump = t.position().distance(guess.position());
+    let turn = normalize_angle(t.theta - guess.theta).abs();
+    (pairs >= MIN_PAIRS && jump < 0.3 && turn < 0.15).then_some(t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -300,6 +434,19 @@ mod tests {
         let mut loc = Localizer::new(start, start, true, 1.0, 0.5);
         loc.correct(&box_scan(start), false);
         // Odometry says 0.05 rad less turn and 5 cm less travel than the truth.
+        loc.predict(Pose2::new(2.45, 2.1, 0.15));
+        loc.correct(&box_scan(truth), false);
+        let p = loc.pose();
+        assert!(p.position().distance(truth.position()) < 0.01, "{p:?}");
+        assert!((p.theta - truth.theta).abs() < 0.002, "{p:?}");
+    }
+
+    #[test]
+    fn matching_against_the_map_recovers_a_heading_error() {
+        let start = Pose2::new(2.0, 2.0, 0.1);
+        let truth = Pose2::new(2.5, 2.1, 0.2);
+        let mut loc = Localizer::new(start, start, true, 1.0, 0.5).with_map();
+        loc.correct(&box_scan(start), false);
         loc.predict(Pose2::new(2.45, 2.1, 0.15));
         loc.correct(&box_scan(truth), false);
         let p = loc.pose();

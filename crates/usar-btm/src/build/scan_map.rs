@@ -12,16 +12,21 @@
 //!
 //! Pose ξ = (x, y, θ); a scan point b (robot frame) lies at q = R(θ)·b + (x, y). With m the
 //! outline point nearest q and n̂ its normal, the match minimises by Gauss–Newton, with a
-//! Huber weight w on the point-to-point distance,
+//! Huber weight w on the residual and an odometry prior of weight λ on the position,
 //!
-//!   E(ξ) = Σᵢ w·rᵢ²,   rᵢ = n̂ᵢ · (qᵢ − mᵢ),   ∂rᵢ/∂ξ = (n̂ₓ, n̂ᵧ, −n̂ₓ·(qᵧ − y) + n̂ᵧ·(qₓ − x)).
+//!   E(ξ) = Σᵢ w·rᵢ² + λ·|(x, y) − (x, y)_odometry|²,   rᵢ = n̂ᵢ · (qᵢ − mᵢ),
+//!   ∂rᵢ/∂ξ = (n̂ₓ, n̂ᵧ, −n̂ₓ·(qᵧ − y) + n̂ᵧ·(qₓ − x)),
+//!
+//! over the pairs whose point lies near its partner both along and across the outline.
 
 use usar_world::{Point2, Pose2, normalize_angle};
 
 /// Neighbouring returns closer than this are on one surface: the outline is drawn between them.
 const OUTLINE_GAP_M: f64 = 0.3;
-/// Returns farther than this are not drawn (a heading error displaces far points most).
-const DRAW_RANGE_M: f64 = 8.0;
+/// Returns farther than this are not drawn: a heading error displaces far points most, and a
+/// robot pitched by less than the obstacle threshold (3°) on the foot of a ramp sees the
+/// floor ahead as a wall that moves with it, from 0.3 m / tan 3° ≈ 5.7 m on.
+const DRAW_RANGE_M: f64 = 5.0;
 /// Margin added around the points when the grid grows, metres.
 const GROW_MARGIN_M: f64 = 10.0;
 /// Gauss–Newton iterations, and the largest step per iteration.
@@ -30,6 +35,17 @@ const MAX_STEP_M: f64 = 0.05;
 const MAX_STEP_RAD: f64 = 0.02;
 /// Huber threshold of the weight, metres.
 const HUBER_M: f64 = 0.05;
+/// A pair counts only when the point lies within this of its partner along the outline (a
+/// partner found past the drawn end of a wall, or on the wall round a corner, would pull the
+/// robot along the corridor) ...
+const ALONG_GATE_M: f64 = 0.15;
+/// ... and within this across it (the first iterations, then [`ACROSS_GATE_FINE_M`]).
+const ACROSS_GATE_M: f64 = 0.3;
+const ACROSS_GATE_FINE_M: f64 = 0.1;
+const COARSE_ITERATIONS: usize = 5;
+/// Weight of the odometry prior on the position, per point used: along a corridor, where
+/// the walls say nothing, odometry decides.
+const PRIOR_WEIGHT: f64 = 0.02;
 /// At least this many points must lie within [`CLOSE_M`] of the outline after the match.
 const MIN_CLOSE_POINTS: usize = 40;
 const CLOSE_M: f64 = 0.08;
@@ -104,11 +120,17 @@ impl ScanMap {
         self.ensure(lo, hi);
         let n = world.len();
         let here = pose.position();
-        let neighbour = |i: usize, a: Point2| world[i % n].filter(|b| a.distance(*b) < OUTLINE_GAP_M);
+        // The return of beam `j` when it is another beam's neighbour on one surface with `a`.
+        let neighbour = |j: usize, i: usize, a: Point2| {
+            (j % n != i)
+                .then_some(world[j % n])
+                .flatten()
+                .filter(|b| a.distance(*b) < OUTLINE_GAP_M)
+        };
         for i in 0..n {
             let Some(a) = world[i] else { continue };
-            let next = neighbour(i + 1, a);
-            let prev = neighbour(i + n - 1, a);
+            let next = neighbour(i + 1, i, a);
+            let prev = neighbour(i + n - 1, i, a);
             // The normal: across the outline through the neighbours, or towards the robot
             // for a lone return.
             let tangent = match (prev, next) {
@@ -154,17 +176,27 @@ impl ScanMap {
             return None;
         }
         let mut t = guess;
-        for _ in 0..ITERATIONS {
+        for iteration in 0..ITERATIONS {
+            let across_gate = if iteration < COARSE_ITERATIONS {
+                ACROSS_GATE_M
+            } else {
+                ACROSS_GATE_FINE_M
+            };
             let mut h = [[0.0f64; 3]; 3];
             let mut g = [0.0f64; 3];
             let mut used = 0usize;
             for &b in points {
                 let q = t.to_world(b);
                 let Some(m) = self.partner(q) else { continue };
-                let d = m.at.distance(q);
-                let w = if d <= HUBER_M { 1.0 } else { HUBER_M / d };
                 let n = m.normal;
-                let r = n.x * (q.x - m.at.x) + n.y * (q.y - m.at.y);
+                let (dx, dy) = (q.x - m.at.x, q.y - m.at.y);
+                let r = n.x * dx + n.y * dy;
+                let along = -n.y * dx + n.x * dy;
+                if along.abs() > ALONG_GATE_M || r.abs() > across_gate {
+                    continue;
+                }
+                let d = r.abs();
+                let w = if d <= HUBER_M { 1.0 } else { HUBER_M / d };
                 let jac = [n.x, n.y, -n.x * (q.y - t.y) + n.y * (q.x - t.x)];
                 for a in 0..3 {
                     g[a] += w * jac[a] * r;
@@ -177,12 +209,14 @@ impl ScanMap {
             if used < MIN_CLOSE_POINTS {
                 return None;
             }
-            // Levenberg damping: a direction the walls do not constrain (along a corridor)
-            // keeps the odometry's value.
-            let damping = 1e-3 * used as f64;
-            for (a, row) in h.iter_mut().enumerate() {
-                row[a] += damping;
-            }
+            // The odometry prior on the position (E += λ·|p − p_odometry|²) and a little
+            // Levenberg damping on the heading.
+            let prior = PRIOR_WEIGHT * used as f64;
+            h[0][0] += prior;
+            h[1][1] += prior;
+            g[0] += prior * (t.x - guess.x);
+            g[1] += prior * (t.y - guess.y);
+            h[2][2] += 1e-3 * used as f64;
             let delta = solve3(h, [-g[0], -g[1], -g[2]])?;
             let step = delta[0].hypot(delta[1]);
             let scale = if step > MAX_STEP_M {
