@@ -625,8 +625,11 @@ impl<'a> Explorer<'a> {
             // On a real floor: only a circumcentre the robot can drive straight to without
             // brushing anything (not the middle of a table between its legs).
             let reachable = cfg.link_min_open_m <= 0.0
-                || lane_length(&self.view, bearing, self.spec.width_m / 2.0 + LINK_LANE_MARGIN_M)
-                    >= distance;
+                || lane_length(
+                    &self.view,
+                    bearing,
+                    self.spec.width_m / 2.0 + LINK_LANE_MARGIN_M,
+                ) >= distance;
             let known = world.distance(from) < cfg.node_exclusion_m
                 || self
                     .ignored

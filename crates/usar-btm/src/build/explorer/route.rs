@@ -193,11 +193,9 @@ impl Explorer<'_> {
     fn reverse_approach(&self, target: Point2, gains: Gains) -> Velocity {
         let alpha = normalize_angle(target.y.atan2(target.x) - PI);
         let half = self.spec.width_m / 2.0;
-        let blocked = self
-            .view
-            .points
-            .iter()
-            .any(|p| p.x < 0.0 && p.y.abs() <= half && -p.x < self.spec.length_m / 2.0 + REVERSE_STOP_M);
+        let blocked = self.view.points.iter().any(|p| {
+            p.x < 0.0 && p.y.abs() <= half && -p.x < self.spec.length_m / 2.0 + REVERSE_STOP_M
+        });
         Velocity {
             linear_mps: if blocked {
                 0.0
