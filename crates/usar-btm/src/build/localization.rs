@@ -447,8 +447,23 @@ mod tests {
         let truth = Pose2::new(2.5, 2.1, 0.2);
         let mut loc = Localizer::new(start, start, true, 1.0, 0.5).with_map();
         loc.correct(&box_scan(start), false);
-        loc.predict(Pose2::new(2.45, 2.1, 0.15));
-        loc.correct(&box_scan(truth), false);
+        // Ten steps; odometry reports 80 % of each step's travel and turn.
+        for k in 1..=10 {
+            let f = f64::from(k) / 10.0;
+            let at = |scale: f64| {
+                Pose2::new(
+                    start.x + (truth.x - start.x) * f * scale,
+                    start.y + (truth.y - start.y) * f * scale,
+                    start.theta + (truth.theta - start.theta) * f * scale,
+                )
+            };
+            loc.predict(at(0.8));
+            loc.correct(&box_scan(at(1.0)), false);
+        }
+        // Standing still, the scans that follow correct what the odometry prior held back.
+        for _ in 0..10 {
+            loc.correct(&box_scan(truth), false);
+        }
         let p = loc.pose();
         assert!(p.position().distance(truth.position()) < 0.01, "{p:?}");
         assert!((p.theta - truth.theta).abs() < 0.002, "{p:?}");
