@@ -130,8 +130,8 @@ impl ScanMap {
                 .flatten()
                 .filter(|b| a.distance(*b) < OUTLINE_GAP_M)
         };
-        for i in 0..n {
-            let Some(a) = world[i] else { continue };
+        for (i, a) in world.iter().enumerate() {
+            let Some(a) = *a else { continue };
             let next = neighbour(i + 1, i, a);
             let prev = neighbour(i + n - 1, i, a);
             // The normal: across the outline through the neighbours, or towards the robot
