@@ -109,9 +109,9 @@ pub struct BuildConfig {
     /// generated course, whose slopes and stairs the horizontal laser sees as walls that move
     /// as the robot pitches, the map does worse (measured, seeds 1–5: largest position error
     /// 0.3–1.2 m and 89 collisions on seed 3, against 0.1–0.3 m and none with key scans); on
-    /// a real floor (`configs/btm-real-floor.toml`) a robot driving back along links it drove
-    /// long before needs the frame the map keeps (Willow Garage, seed 1: 36 collisions and a
-    /// 1.06 m error with key scans; none and 0.34 m with the map).
+    /// a real floor (`configs/btm-real-floor.toml`) the frame the map keeps holds node
+    /// coordinates together (Willow Garage, seed 1, that preset: largest position error
+    /// 0.94 m with key scans, 0.34 m with the map).
     pub scan_map: bool,
 
     // --- Run ---
