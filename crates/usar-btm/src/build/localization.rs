@@ -1,6 +1,8 @@
 //! Where the robot thinks it is: odometry, corrected by matching each horizontal scan against
-//! a key scan (point-to-line ICP, Censi's PL-ICP without the closed form). Node coordinates
-//! are taken in this estimate; the simulator's true pose is never read.
+//! a key scan (point-to-line ICP, Censi's PL-ICP without the closed form), or — with
+//! [`BuildConfig::scan_map`](crate::build::BuildConfig::scan_map) — against the robot's own
+//! map of all the scans it took before ([`ScanMap`]). Node coordinates are taken in this
+//! estimate; the simulator's true pose is never read.
 //!
 //! Odometry alone drifts by several degrees of heading over a course (the simulator's
 //! rotation noise is 0.02 rad per √rad turned), which would put far nodes metres away.
@@ -10,6 +12,7 @@
 //! of the straight walls to its sides, compared with the last key scan before the obstacle.
 
 use crate::build::scan::ScanView;
+use crate::build::scan_map::{ScanMap, solve3};
 use usar_world::{Point2, Pose2, normalize_angle};
 
 /// a ⊕ b: pose `b` given in the frame of `a`, expressed in the frame `a` is given in.
@@ -35,10 +38,25 @@ struct KeyScan {
     angle_increment_rad: f64,
 }
 
+/// Cell size of the robot's map, metres (the residual is point to line: the cell size only
+/// bounds how far the partner found may be from the nearest one).
+pub const MAP_RESOLUTION_M: f64 = 0.1;
+/// How far from a cell its partner outline point is looked for, metres: larger than any
+/// correction accepted.
+pub const MAP_REACH_M: f64 = 0.5;
+/// The scan is drawn into the map after this distance driven or this turn since it was last
+/// drawn: a new corridor is in the map before the robot has driven far into it.
+pub const MAP_DRAW_DISTANCE_M: f64 = 0.25;
+pub const MAP_DRAW_ANGLE_RAD: f64 = 0.25;
+
 /// Odometry with scan-matching corrections.
 pub struct Localizer {
     pose: Pose2,
     last_odometry: Pose2,
+    /// The robot's map (drawn on level floor only) and the pose it was last drawn from, when
+    /// matching against the map instead of the key scan.
+    map: Option<ScanMap>,
+    drawn_at: Option<Pose2>,
     /// Always taken on level floor.
     key: Option<KeyScan>,
     /// Whether the last scan was taken on an obstacle.
@@ -66,6 +84,8 @@ impl Localizer {
         Self {
             pose: start,
             last_odometry: odometry,
+            map: None,
+            drawn_at: None,
             key: None,
             on_obstacle: false,
             last_level: None,
@@ -76,6 +96,12 @@ impl Localizer {
             matched: 0,
             rejected: 0,
         }
+    }
+
+    /// Matches against the robot's own map instead of the last key scan.
+    pub fn with_map(mut self) -> Self {
+        self.map = Some(ScanMap::new(MAP_RESOLUTION_M, MAP_REACH_M));
+        self
     }
 
     /// The current estimate.
@@ -132,6 +158,11 @@ impl Localizer {
             self.last_level = Some(self.snapshot(scan));
             return;
         }
+        if self.map.is_some() {
+            self.correct_on_map(scan);
+            self.last_level = Some(self.snapshot(scan));
+            return;
+        }
         let Some(key) = &self.key else {
             self.take_key(scan);
             return;
@@ -163,6 +194,28 @@ impl Localizer {
 
     fn take_key(&mut self, scan: &ScanView) {
         self.key = Some(self.snapshot(scan));
+    }
+
+    /// Matches `scan` against the map, then draws it when the robot has moved on enough.
+    fn correct_on_map(&mut self, scan: &ScanView) {
+        let Some(map) = &mut self.map else { return };
+        if !map.is_empty() {
+            match map.match_scan(&scan.points, self.pose) {
+                Some(pose) => {
+                    self.pose = pose;
+                    self.matched += 1;
+                }
+                None => self.rejected += 1,
+            }
+        }
+        let due = self.drawn_at.is_none_or(|at| {
+            self.pose.position().distance(at.position()) > MAP_DRAW_DISTANCE_M
+                || normalize_angle(self.pose.theta - at.theta).abs() > MAP_DRAW_ANGLE_RAD
+        });
+        if due {
+            map.insert(self.pose, &scan.beams);
+            self.drawn_at = Some(self.pose);
+        }
     }
 }
 /// Beams searched either side of the projected one.
@@ -332,28 +385,6 @@ fn match_scan(key: &KeyScan, scan: &ScanView, guess: Pose2) -> Option<Pose2> {
     (pairs >= MIN_PAIRS && jump < 0.3 && turn < 0.15).then_some(t)
 }
 
-/// Solves the 3 × 3 system `a·x = b` by Cramer's rule; `None` when singular.
-fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(a);
-    if d.abs() < 1e-12 {
-        return None;
-    }
-    let mut x = [0.0; 3];
-    for (i, xi) in x.iter_mut().enumerate() {
-        let mut m = a;
-        for r in 0..3 {
-            m[r][i] = b[r];
-        }
-        *xi = det(m) / d;
-    }
-    Some(x)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -405,6 +436,34 @@ mod tests {
         // Odometry says 0.05 rad less turn and 5 cm less travel than the truth.
         loc.predict(Pose2::new(2.45, 2.1, 0.15));
         loc.correct(&box_scan(truth), false);
+        let p = loc.pose();
+        assert!(p.position().distance(truth.position()) < 0.01, "{p:?}");
+        assert!((p.theta - truth.theta).abs() < 0.002, "{p:?}");
+    }
+
+    #[test]
+    fn matching_against_the_map_recovers_a_heading_error() {
+        let start = Pose2::new(2.0, 2.0, 0.1);
+        let truth = Pose2::new(2.5, 2.1, 0.2);
+        let mut loc = Localizer::new(start, start, true, 1.0, 0.5).with_map();
+        loc.correct(&box_scan(start), false);
+        // Ten steps; odometry reports 80 % of each step's travel and turn.
+        for k in 1..=10 {
+            let f = f64::from(k) / 10.0;
+            let at = |scale: f64| {
+                Pose2::new(
+                    start.x + (truth.x - start.x) * f * scale,
+                    start.y + (truth.y - start.y) * f * scale,
+                    start.theta + (truth.theta - start.theta) * f * scale,
+                )
+            };
+            loc.predict(at(0.8));
+            loc.correct(&box_scan(at(1.0)), false);
+        }
+        // Standing still, the scans that follow correct what the odometry prior held back.
+        for _ in 0..10 {
+            loc.correct(&box_scan(truth), false);
+        }
         let p = loc.pose();
         assert!(p.position().distance(truth.position()) < 0.01, "{p:?}");
         assert!((p.theta - truth.theta).abs() < 0.002, "{p:?}");

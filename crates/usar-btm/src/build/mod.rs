@@ -7,7 +7,8 @@
 //! - [`free_space`]: entrance and exit of open areas from L_l, L_r against C₁;
 //! - [`obstacle`]: the tilted laser's obstacle profile → slope and stairs nodes;
 //! - [`links`]: what is measured along a link, and the map writer;
-//! - [`localization`]: odometry corrected by scan matching (node coordinates);
+//! - [`localization`]: odometry corrected by scan matching against the robot's own map
+//!   ([`scan_map`]) (node coordinates);
 //! - [`planner`]: routes on the BTM back to un-searched links;
 //! - [`crate::locomotion`]: the run modes of §IV and Fig. 8.
 //!
@@ -30,6 +31,7 @@ pub mod localization;
 pub mod obstacle;
 pub mod planner;
 pub mod scan;
+pub mod scan_map;
 
 pub use self::config::BuildConfig;
 
@@ -68,6 +70,9 @@ pub struct TrajectorySample {
     /// Where it really is (simulator ground truth, for evaluation only).
     pub truth: Pose2,
     pub mode: RunMode,
+    /// Whether the robot was stopped by a wall or obstacle on this step (simulator ground
+    /// truth, for evaluation only).
+    pub contact: bool,
 }
 
 /// What a build produced.
@@ -83,6 +88,9 @@ pub struct BuildOutcome {
     /// Distance the robot really drove, metres.
     pub distance_m: f64,
     pub collisions: u32,
+    /// Largest distance between the estimated and the true position over the run, metres
+    /// (evaluation only: the robot never reads its true pose).
+    pub max_position_error_m: f64,
     /// Scans matched to a key scan, and matches rejected (odometry kept).
     pub scan_matches: u64,
     pub scan_match_rejections: u64,

@@ -109,11 +109,11 @@ fn build(args: BtmBuildArgs) -> CmdResult {
     }
     if let Some(path) = &args.trace {
         let mut csv = String::from(
-            "time_s,est_x_m,est_y_m,est_theta_rad,true_x_m,true_y_m,true_theta_rad,mode\n",
+            "time_s,est_x_m,est_y_m,est_theta_rad,true_x_m,true_y_m,true_theta_rad,mode,contact\n",
         );
         for t in &outcome.trajectory {
             csv += &format!(
-                "{:.2},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{}\n",
+                "{:.2},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{}\n",
                 t.time_s,
                 t.estimated.x,
                 t.estimated.y,
@@ -121,7 +121,8 @@ fn build(args: BtmBuildArgs) -> CmdResult {
                 t.truth.x,
                 t.truth.y,
                 t.truth.theta,
-                t.mode.as_str()
+                t.mode.as_str(),
+                u8::from(t.contact)
             );
         }
         usar_world::write_atomic(path, csv.as_bytes())?;
@@ -151,6 +152,7 @@ fn build(args: BtmBuildArgs) -> CmdResult {
             "time_s": outcome.time_s,
             "distance_m": outcome.distance_m,
             "collisions": outcome.collisions,
+            "max_position_error_m": outcome.max_position_error_m,
             "bytes": sizes,
         });
         for (k, val) in extra.as_object().expect("object") {

@@ -10,7 +10,9 @@ use self::crossing::{Crossing, RECENT_FLOOR_M};
 use self::free_space_walk::FreeSpaceWalk;
 use self::route::Route;
 use self::stall::{Remedy, StallWatch, Target};
-use super::divergence::{divergence_subtype, divergence_triangles, open_directions};
+use super::divergence::{
+    LINK_LANE_MARGIN_M, divergence_subtype, divergence_triangles, lane_open_m, open_directions,
+};
 use super::free_space::{ExitTracker, follow_right_wall, is_free_space};
 use super::links::{LinkMeasures, LinkRecorder, LinkSample, MapWriter};
 use super::localization::Localizer;
@@ -165,13 +167,16 @@ impl<'a> Explorer<'a> {
         Ok(Self {
             cfg,
             spec,
-            loc: Localizer::new(
-                start,
-                odometry.estimate,
-                cfg.scan_matching,
-                cfg.keyframe_distance_m,
-                cfg.keyframe_angle_rad,
-            ),
+            loc: {
+                let loc = Localizer::new(
+                    start,
+                    odometry.estimate,
+                    cfg.scan_matching,
+                    cfg.keyframe_distance_m,
+                    cfg.keyframe_angle_rad,
+                );
+                if cfg.scan_map { loc.with_map() } else { loc }
+            },
             sim,
             id,
             map: MapWriter::new(store),
@@ -232,6 +237,11 @@ impl<'a> Explorer<'a> {
             time_s: self.sim.time_s(),
             distance_m: robot.distance_m,
             collisions: robot.collisions,
+            max_position_error_m: self
+                .trajectory
+                .iter()
+                .map(|s| s.estimated.position().distance(s.truth.position()))
+                .fold(0.0, f64::max),
             scan_matches: self.loc.matched,
             scan_match_rejections: self.loc.rejected,
             trajectory: self.trajectory,
@@ -292,6 +302,7 @@ impl<'a> Explorer<'a> {
             estimated: self.loc.pose(),
             truth: robot.pose,
             mode: self.mode,
+            contact: robot.in_contact(),
         });
     }
 
@@ -375,13 +386,16 @@ impl<'a> Explorer<'a> {
                 };
                 self.map.close_link(link, node, measures)?;
                 for d in dirs {
-                    self.map.add_unsearched(node, d)?;
+                    if self.link_is_open(&world, centre, d) {
+                        self.map.add_unsearched(node, d)?;
+                    }
                 }
                 self.node = node;
                 return self.continue_from(node, back);
             }
         }
         let mut dirs = open_directions(&world, here, cfg.band_far_m / 2.0, width);
+        dirs.retain(|&d| self.link_is_open(&world, here, d));
         if dirs.is_empty() {
             dirs.push(pose.theta.rem_euclid(TAU));
         }
@@ -571,6 +585,21 @@ impl<'a> Explorer<'a> {
         }
     }
 
+    /// Whether the gap in `direction_rad` from `centre` is a link: a lane a little wider than
+    /// the robot runs free through it for [`BuildConfig::link_min_open_m`] (always, when that
+    /// is 0 as in the paper).
+    fn link_is_open(&self, world: &[Point2], centre: Point2, direction_rad: f64) -> bool {
+        let need = self.cfg.link_min_open_m;
+        need <= 0.0
+            || lane_open_m(
+                world,
+                centre,
+                direction_rad,
+                self.spec.width_m / 2.0 + LINK_LANE_MARGIN_M,
+                need,
+            ) >= need
+    }
+
     /// The narrowest gap taken for a passage: the robot's width plus the configured margin.
     fn passage_width_m(&self) -> f64 {
         self.spec.width_m + self.cfg.passage_margin_m
@@ -591,14 +620,22 @@ impl<'a> Explorer<'a> {
             let c = t.circumcentre;
             let world = pose.to_world(c);
             let distance = c.distance(Point2::default());
-            let visible =
-                self.view.min_range_near(c.y.atan2(c.x), 1f64.to_radians()) >= distance - 0.3;
+            let bearing = c.y.atan2(c.x);
+            let visible = self.view.min_range_near(bearing, 1f64.to_radians()) >= distance - 0.3;
+            // On a real floor: only a circumcentre the robot can drive straight to without
+            // brushing anything (not the middle of a table between its legs).
+            let reachable = cfg.link_min_open_m <= 0.0
+                || lane_length(
+                    &self.view,
+                    bearing,
+                    self.spec.width_m / 2.0 + LINK_LANE_MARGIN_M,
+                ) >= distance;
             let known = world.distance(from) < cfg.node_exclusion_m
                 || self
                     .ignored
                     .iter()
                     .any(|p| p.distance(world) < CANDIDATE_TRACK_M);
-            (visible && !known).then_some((world, t.circumradius_m))
+            (visible && reachable && !known).then_some((world, t.circumradius_m))
         })
     }
 
@@ -803,7 +840,7 @@ impl<'a> Explorer<'a> {
         self.map
             .close_link(ex.link, node, ex.rec.measures(from, centre))?;
         for (i, d) in dirs.iter().enumerate() {
-            if Some(i) != entry {
+            if Some(i) != entry && self.link_is_open(&world, centre, *d) {
                 self.map.add_unsearched(node, *d)?;
             }
         }

@@ -21,6 +21,14 @@ const RETURN_REPLANS: u32 = 2;
 /// Route stretch searched for the point nearest the robot after a detour, metres.
 const RESUME_WINDOW_M: f64 = 2.0;
 
+/// Clearance kept around the robot's turning circle: with anything nearer, a robot whose
+/// route point lies behind it backs towards it instead of turning on the spot (a narrow
+/// passage between furniture is left the way it was entered).
+const TURN_CLEARANCE_M: f64 = 0.05;
+/// Reverse speed as a fraction of the approach speed, and the gap kept behind, metres.
+const REVERSE_SPEED_FACTOR: f64 = 0.5;
+const REVERSE_STOP_M: f64 = 0.05;
+
 pub(super) struct Route {
     pub(super) waypoints: Vec<Point2>,
     pub(super) index: usize,
@@ -150,7 +158,11 @@ impl Explorer<'_> {
         }
         let mut gains = self.gains();
         let target = pose.to_body(route.waypoints[route.index]);
-        let v = if self.inclination_rad > self.cfg.level_attitude_rad {
+        let behind = target.x < 0.0 && target.y.abs() < -target.x;
+        let v = if behind && !self.turn_is_clear() {
+            route.detour_rad = None;
+            self.reverse_approach(target, gains)
+        } else if self.inclination_rad > self.cfg.level_attitude_rad {
             // On a slope or stairs the horizontal laser sees the obstacle's own floor.
             gains.speed_mps *= self.cfg.obstacle_speed_factor;
             target_approach(target, gains)
@@ -166,6 +178,32 @@ impl Explorer<'_> {
         };
         self.state = State::Return(route);
         Ok(v)
+    }
+
+    /// Whether the robot can turn on the spot: no laser point within its circumscribed
+    /// radius plus [`TURN_CLEARANCE_M`].
+    fn turn_is_clear(&self) -> bool {
+        let r = self.spec.circumscribed_radius_m() + TURN_CLEARANCE_M;
+        self.view.points.iter().all(|p| p.x.hypot(p.y) > r)
+    }
+
+    /// Target approach driving backwards: the rear turns towards `target` (robot frame,
+    /// behind the robot) as the front does in [`target_approach`], ω = k_w·(α − π); it stops
+    /// short of anything close behind.
+    fn reverse_approach(&self, target: Point2, gains: Gains) -> Velocity {
+        let alpha = normalize_angle(target.y.atan2(target.x) - PI);
+        let half = self.spec.width_m / 2.0;
+        let blocked = self.view.points.iter().any(|p| {
+            p.x < 0.0 && p.y.abs() <= half && -p.x < self.spec.length_m / 2.0 + REVERSE_STOP_M
+        });
+        Velocity {
+            linear_mps: if blocked {
+                0.0
+            } else {
+                -gains.speed_mps * REVERSE_SPEED_FACTOR
+            },
+            angular_radps: gains.turn_gain * alpha,
+        }
     }
 
     /// Target approach towards `target` (robot frame) when its lane is clear; otherwise along
