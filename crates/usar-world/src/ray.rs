@@ -191,8 +191,9 @@ impl GridRay {
                     let col = self.col + self.step_col * x_steps as i32;
                     let row = self.row + self.step_row * y_steps as i32;
                     if let Some(rect) = skip(index, col, row)
-                        && let Some((nx, ny)) =
-                            plan.crossings_inside(&self, width, height, rect, col, row, x_steps)
+                        && let Some((nx, ny)) = plan.crossings_inside(
+                            &self, width, height, rect, col, row, x_steps, y_steps,
+                        )
                         && nx >= x_steps
                         && ny >= y_steps
                         && nx + ny > step
@@ -331,16 +332,15 @@ impl AxisCrossings {
             .min(FixedCrossings::NEVER)
     }
 
-    /// Time of the crossing that takes the ray, now `done` crossings in at `cell` and moving by
-    /// `step` (±1 or 0) per crossing, out of `min..=max`.
+    /// Index of the crossing that takes the ray, now `done` crossings in at `cell` and moving by
+    /// `step` (±1 or 0) per crossing, out of `min..=max` (`u64::MAX`: never).
     #[inline]
-    fn leaving_range(&self, done: usize, cell: i32, step: i32, min: i32, max: i32) -> u64 {
-        let ahead = match step {
-            1 => max - cell,
-            -1 => cell - min,
-            _ => return FixedCrossings::NEVER,
-        };
-        self.time(done as u64 + ahead as u64)
+    fn leaving_index(done: usize, cell: i32, step: i32, min: i32, max: i32) -> u64 {
+        match step {
+            1 => (done + (max - cell) as usize) as u64,
+            -1 => (done + (cell - min) as usize) as u64,
+            _ => u64::MAX,
+        }
     }
 
     /// Time of the crossing that leaves the grid, if it is among the first `crossings`.
@@ -451,8 +451,10 @@ impl FixedCrossings {
 
 impl FixedCrossings {
     /// Crossings along x and along y made (from the ray's start) before the first one that
-    /// takes a ray at (`col`, `row`), `x_steps` crossings along x in, out of `rect` (clipped to
-    /// the grid); `None` when the cell is not inside it.
+    /// takes a ray at (`col`, `row`), `x_steps` crossings along x and `y_steps` along y in, out
+    /// of `rect` (clipped to the grid); `None` when the cell is not inside it. The axis that
+    /// leaves first made exactly the crossings up to the leaving one; only the other one is
+    /// counted.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn crossings_inside(
@@ -464,21 +466,25 @@ impl FixedCrossings {
         col: i32,
         row: i32,
         x_steps: usize,
+        y_steps: usize,
     ) -> Option<(usize, usize)> {
         let (col_min, col_max) = (rect.col_min.max(0), rect.col_max.min(width as i32 - 1));
         let (row_min, row_max) = (rect.row_min.max(0), rect.row_max.min(height as i32 - 1));
         if !(col_min <= col && col <= col_max && row_min <= row && row <= row_max) {
             return None;
         }
-        let y_steps = (row - ray.row).unsigned_abs() as usize;
-        let tx = self
-            .x
-            .leaving_range(x_steps, col, ray.step_col, col_min, col_max);
-        let ty = self
-            .y
-            .leaving_range(y_steps, row, ray.step_row, row_min, row_max);
-        let t = tx.min(ty);
-        Some((self.x.before(t) as usize, self.y.before(t) as usize))
+        let kx = AxisCrossings::leaving_index(x_steps, col, ray.step_col, col_min, col_max);
+        let ky = AxisCrossings::leaving_index(y_steps, row, ray.step_row, row_min, row_max);
+        let (tx, ty) = (self.x.time(kx), self.y.time(ky));
+        Some(if tx < ty {
+            (kx as usize, self.y.before(tx) as usize)
+        } else if ty < tx {
+            (self.x.before(ty) as usize, ky as usize)
+        } else if tx < FixedCrossings::NEVER {
+            (kx as usize, ky as usize)
+        } else {
+            (self.x.before(tx) as usize, self.y.before(ty) as usize)
+        })
     }
 }
 

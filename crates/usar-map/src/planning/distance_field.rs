@@ -287,16 +287,7 @@ impl DistanceField {
             .iter()
             .any(|bucket| bucket.iter().any(|list| !list.is_empty()))
         {
-            let (c, n, a) = (&*current, &mut *next, &mut *after);
-            reached += scan_list::<0>(&c[0], distance, stride, level, n, a);
-            reached += scan_list::<1>(&c[1], distance, stride, level, n, a);
-            reached += scan_list::<2>(&c[2], distance, stride, level, n, a);
-            reached += scan_list::<3>(&c[3], distance, stride, level, n, a);
-            reached += scan_list::<4>(&c[4], distance, stride, level, n, a);
-            reached += scan_list::<5>(&c[5], distance, stride, level, n, a);
-            reached += scan_list::<6>(&c[6], distance, stride, level, n, a);
-            reached += scan_list::<7>(&c[7], distance, stride, level, n, a);
-            reached += scan_list::<SOURCE_MOVE>(&c[SOURCE_MOVE], distance, stride, level, n, a);
+            reached += scan_bucket(current, next, after, distance, stride, level);
             for list in current.iter_mut() {
                 list.clear();
             }
@@ -440,6 +431,30 @@ impl DistanceField {
     fn cell_of_padded(&self, i: usize) -> Cell {
         Cell::new((i % self.stride) as i32 - 1, (i / self.stride) as i32 - 1)
     }
+}
+
+/// Scans every list of the current bucket (distances in [`level`, `level` + 1)); returns the
+/// number of cells reached for the first time. Out of line: the lists' loops get the registers
+/// to themselves.
+#[inline(never)]
+fn scan_bucket(
+    current: &MoveLists,
+    next: &mut MoveLists,
+    after: &mut MoveLists,
+    distance: &mut [f64],
+    stride: usize,
+    level: f64,
+) -> usize {
+    let (c, n, a) = (current, next, after);
+    scan_list::<0>(&c[0], distance, stride, level, n, a)
+        + scan_list::<1>(&c[1], distance, stride, level, n, a)
+        + scan_list::<2>(&c[2], distance, stride, level, n, a)
+        + scan_list::<3>(&c[3], distance, stride, level, n, a)
+        + scan_list::<4>(&c[4], distance, stride, level, n, a)
+        + scan_list::<5>(&c[5], distance, stride, level, n, a)
+        + scan_list::<6>(&c[6], distance, stride, level, n, a)
+        + scan_list::<7>(&c[7], distance, stride, level, n, a)
+        + scan_list::<SOURCE_MOVE>(&c[SOURCE_MOVE], distance, stride, level, n, a)
 }
 
 /// Scans the cells of the current bucket (distances in [`level`, `level` + 1)) queued by move

@@ -19,7 +19,7 @@ use usar_world::{CellRect, GridGeometry, GridRay, Point2, Scene, Visit};
 
 /// Clearance (cells) from which a beam jumps rather than steps: a jump costs about as much as
 /// walking a few cells.
-const MIN_SKIP_CLEARANCE: u8 = 4;
+const MIN_SKIP_CLEARANCE: u8 = 8;
 
 /// Blocking heights of a scene, built once and shared by every robot's sensors.
 #[derive(Clone, Debug)]
