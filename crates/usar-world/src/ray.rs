@@ -149,9 +149,10 @@ impl GridRay {
 
     /// [`GridRay::walk_to`] that can jump over blocks of cells known to be of no interest: the
     /// walk ends on the same cell with the same `t_entry` as `walk_to` with the visitor
-    /// `|i| visit(i) == Visit::Stop`, provided that every cell of a rectangle `skip` returns
-    /// would get [`Visit::Next`] or [`Visit::MaySkip`] from `visit` and that visiting such a cell
-    /// has no effect; those cells may not be visited at all.
+    /// `|i| visitor.visit(i) == Visit::Stop`, provided that every cell of a rectangle
+    /// `visitor.skip` returns would get [`Visit::Next`] or [`Visit::MaySkip`] from
+    /// `visitor.visit` and that visiting such a cell has no effect; those cells may not be
+    /// visited at all.
     ///
     /// When `visit` answers [`Visit::MaySkip`], `skip(index, col, row)` may give a rectangle of
     /// cells around the current cell (col, row); the walk then moves, in one step, to the last
@@ -166,12 +167,12 @@ impl GridRay {
         width: u32,
         height: u32,
         t_end: f64,
-        mut visit: impl FnMut(usize) -> Visit,
-        mut skip: impl FnMut(usize, i32, i32) -> Option<CellRect>,
+        visitor: &mut impl RayVisitor,
     ) -> Option<(usize, f64)> {
         let mut index = self.index_in(width, height)?;
         let Some(plan) = FixedCrossings::new(&self, width, height, t_end) else {
-            return self.walk_to_by_advance(width, height, t_end, |i| visit(i) == Visit::Stop);
+            return self
+                .walk_to_by_advance(width, height, t_end, |i| visitor.visit(i) == Visit::Stop);
         };
         let col_offset = self.step_col as isize;
         let row_offset = self.step_row as isize * width as isize;
@@ -181,7 +182,7 @@ impl GridRay {
         let mut step = 0usize;
         let mut x_steps = 0usize;
         while step < plan.visits {
-            match visit(index) {
+            match visitor.visit(index) {
                 Visit::Next => {}
                 Visit::Stop => {
                     return Some((index, self.t_entry_after(x_steps, step - x_steps)));
@@ -190,7 +191,7 @@ impl GridRay {
                     let y_steps = step - x_steps;
                     let col = self.col + self.step_col * x_steps as i32;
                     let row = self.row + self.step_row * y_steps as i32;
-                    if let Some(rect) = skip(index, col, row)
+                    if let Some(rect) = visitor.skip(index, col, row)
                         && let Some((nx, ny)) = plan.crossings_inside(
                             &self, width, height, rect, col, row, x_steps, y_steps,
                         )
@@ -279,6 +280,15 @@ pub enum Visit {
     Stop,
     /// Go on; the cell may lie in a rectangle of cells the walk can jump over (ask `skip`).
     MaySkip,
+}
+
+/// The cells of a [`GridRay::walk_skipping`]: what to do on each, and which ones to jump over.
+pub trait RayVisitor {
+    /// Called on each cell the walk does not jump over, by row-major index.
+    fn visit(&mut self, index: usize) -> Visit;
+    /// After [`Visit::MaySkip`] on the cell at (`col`, `row`): a rectangle around it whose
+    /// cells the walk may jump over, if any.
+    fn skip(&mut self, index: usize, col: i32, row: i32) -> Option<CellRect>;
 }
 
 /// A rectangle of cells, bounds included.
@@ -648,21 +658,30 @@ mod tests {
                 }).last()
             };
             let expected = ray.walk_to(width, height, t_end, |i| stop[i]);
-            let skipping = ray.walk_skipping(
-                width,
-                height,
-                t_end,
-                |i| if stop[i] { Visit::Stop } else { Visit::MaySkip },
-                |i, col, row| {
-                    assert_eq!(i, (row as u32 * width + col as u32) as usize);
-                    clear_radius(col, row).filter(|&r| r >= min_radius).map(|r| CellRect {
-                        col_min: col - r,
-                        col_max: col + r,
-                        row_min: row - r,
-                        row_max: row + r,
-                    })
-                },
-            );
+            struct Probe<'a, F> {
+                stop: &'a [bool],
+                width: u32,
+                min_radius: i32,
+                clear_radius: F,
+            }
+            impl<F: Fn(i32, i32) -> Option<i32>> RayVisitor for Probe<'_, F> {
+                fn visit(&mut self, i: usize) -> Visit {
+                    if self.stop[i] { Visit::Stop } else { Visit::MaySkip }
+                }
+                fn skip(&mut self, i: usize, col: i32, row: i32) -> Option<CellRect> {
+                    assert_eq!(i, (row as u32 * self.width + col as u32) as usize);
+                    (self.clear_radius)(col, row)
+                        .filter(|&r| r >= self.min_radius)
+                        .map(|r| CellRect {
+                            col_min: col - r,
+                            col_max: col + r,
+                            row_min: row - r,
+                            row_max: row + r,
+                        })
+                }
+            }
+            let mut probe = Probe { stop: &stop, width, min_radius, clear_radius };
+            let skipping = ray.walk_skipping(width, height, t_end, &mut probe);
             prop_assert_eq!(expected, skipping);
         }
     }

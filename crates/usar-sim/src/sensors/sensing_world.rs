@@ -15,7 +15,7 @@
 //! through every cell.
 
 use std::cmp::Ordering;
-use usar_world::{CellRect, GridGeometry, GridRay, Point2, Scene, Visit};
+use usar_world::{CellRect, GridGeometry, GridRay, Point2, RayVisitor, Scene, Visit};
 
 /// Clearance (cells) from which a beam jumps rather than steps: a jump costs about as much as
 /// walking a few cells.
@@ -33,6 +33,44 @@ pub struct SensingWorld {
     /// Per cell: Chebyshev distance in cells to the nearest rising cell (0 on one), at most
     /// 255; cells outside the grid do not count.
     clearance: Vec<u8>,
+}
+
+/// A beam above 0 m walking the grid: it stops on a rising cell at least as high as the beam
+/// and jumps over the empty space around cells at least [`MIN_SKIP_CLEARANCE`] from any rising
+/// cell.
+struct BeamAbove<'a> {
+    clearance: &'a [u8],
+    blocks_all: &'a [u64],
+    heights: &'a [f32],
+    z_m: f32,
+}
+
+impl RayVisitor for BeamAbove<'_> {
+    #[inline(always)]
+    fn visit(&mut self, i: usize) -> Visit {
+        match self.clearance[i] {
+            0 => {
+                if (self.blocks_all[i / 64] >> (i % 64)) & 1 != 0 || self.heights[i] >= self.z_m {
+                    Visit::Stop
+                } else {
+                    Visit::Next
+                }
+            }
+            c if c >= MIN_SKIP_CLEARANCE => Visit::MaySkip,
+            _ => Visit::Next,
+        }
+    }
+
+    #[inline(always)]
+    fn skip(&mut self, i: usize, col: i32, row: i32) -> Option<CellRect> {
+        let r = i32::from(self.clearance[i]) - 1;
+        Some(CellRect {
+            col_min: col - r,
+            col_max: col + r,
+            row_min: row - r,
+            row_max: row + r,
+        })
+    }
 }
 
 /// Chebyshev distance from each cell to the nearest marked one (0 on a marked cell, 255 at
@@ -158,7 +196,6 @@ impl SensingWorld {
             let bit = |bits: &[u64], i: usize| (bits[i / 64] >> (i % 64)) & 1 != 0;
             let (rises, blocks_all) = (&self.rises_above_zero, &self.blocks_all);
             let blocks = |i| bit(rises, i) && (bit(blocks_all, i) || heights[i] >= z_m);
-            let clearance = self.clearance.as_slice();
             let g = &self.geometry;
             let max_t = max_range_m / g.resolution_m;
             // As in `first_blocking`, with the empty space around the beam skipped.
@@ -166,25 +203,11 @@ impl SensingWorld {
                 g.width,
                 g.height,
                 max_t.next_up(),
-                |i| match clearance[i] {
-                    0 => {
-                        if bit(blocks_all, i) || heights[i] >= z_m {
-                            Visit::Stop
-                        } else {
-                            Visit::Next
-                        }
-                    }
-                    c if c >= MIN_SKIP_CLEARANCE => Visit::MaySkip,
-                    _ => Visit::Next,
-                },
-                |i, col, row| {
-                    let r = i32::from(clearance[i]) - 1;
-                    Some(CellRect {
-                        col_min: col - r,
-                        col_max: col + r,
-                        row_min: row - r,
-                        row_max: row + r,
-                    })
+                &mut BeamAbove {
+                    clearance: &self.clearance,
+                    blocks_all,
+                    heights,
+                    z_m,
                 },
             )?;
             blocks(i).then_some(t_entry * g.resolution_m)
