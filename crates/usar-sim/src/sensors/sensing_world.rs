@@ -333,7 +333,7 @@ mod tests {
         let (w, h) = (23usize, 17usize);
         let marked: Vec<bool> = (0..w * h).map(|i| (i * 7919) % 61 == 0).collect();
         let d = chebyshev_clearance(w, h, |i| marked[i]);
-        for i in 0..w * h {
+        for (i, &clearance) in d.iter().enumerate() {
             let (c, r) = ((i % w) as i32, (i / w) as i32);
             let brute = (0..w * h)
                 .filter(|&j| marked[j])
@@ -343,7 +343,7 @@ mod tests {
                 })
                 .min()
                 .map_or(255, |v| v.min(255) as u8);
-            assert_eq!(d[i], brute, "cell {i}");
+            assert_eq!(clearance, brute, "cell {i}");
         }
         assert!(
             chebyshev_clearance(3, 2, |_| false)
