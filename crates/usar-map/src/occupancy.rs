@@ -202,7 +202,10 @@ impl Cells<'_> {
     #[inline(never)]
     fn change_by_miss(&mut self, i: usize) {
         let old = self.logodds[i];
-        self.write(i, old, self.after_miss[usize::from(old as u8)]);
+        let new = self.after_miss[usize::from(old as u8)];
+        // `write` without its bitmap refresh: the bit is set regardless.
+        self.logodds[i] = new;
+        self.log.record(self.params, i, old, new);
         self.unchanged_by_miss[i / 64] |= 1 << (i % 64);
         self.missed_cells.push(i as u32);
     }
@@ -344,7 +347,10 @@ impl OccupancyGrid {
             });
             if let Some((i, _)) = end {
                 if hit {
-                    hits.push(i as u32);
+                    // Neighbouring beams often end in the same cell: a repeat is not kept.
+                    if hits.last() != Some(&(i as u32)) {
+                        hits.push(i as u32);
+                    }
                 } else {
                     cells.miss_at(i);
                 }

@@ -486,6 +486,42 @@ proptest! {
         }
     }
 
+    /// Stopping once the targets are settled changes neither their distances nor the paths
+    /// back from them, and the search does stop early when the targets are near.
+    #[test]
+    fn a_field_stopped_once_its_targets_are_settled_agrees_on_them(
+        (grid, a, b) in jump_grid_strategy(),
+        picks in proptest::collection::vec((0.0f64..1.0, 0.0f64..1.0), 0..6),
+    ) {
+        let g = *grid.geometry();
+        let targets: Vec<Cell> = picks
+            .iter()
+            .map(|&(x, y)| Cell::new((x * g.width as f64) as i32, (y * g.height as f64) as i32))
+            .collect();
+        let mut full = DistanceField::new();
+        full.compute(&grid, &[a], Connectivity::Eight);
+        let mut early = DistanceField::new();
+        early.compute_until_settled(&grid, &[a], Connectivity::Eight, &targets);
+        for &t in targets.iter().chain([&b]) {
+            let settled = targets.contains(&t)
+                || full.distance_cells(t).is_some_and(|d| {
+                    targets
+                        .iter()
+                        .any(|&x| full.distance_cells(x).is_some_and(|dx| d < dx.floor()))
+                });
+            if settled {
+                prop_assert_eq!(early.distance_cells(t), full.distance_cells(t), "{:?}", t);
+                prop_assert_eq!(early.path_to_source(t), full.path_to_source(t));
+            }
+        }
+        if !targets.is_empty() && targets.iter().all(|&t| full.distance_cells(t).is_some()) {
+            prop_assert!(early.reached_count() <= full.reached_count());
+        }
+        if targets.is_empty() {
+            prop_assert_eq!(early.reached_count(), full.reached_count());
+        }
+    }
+
     #[test]
     fn astar_agrees_with_the_distance_field((grid, start, goal) in grid_strategy()) {
         let mut astar = GridAStar::new();
@@ -601,6 +637,31 @@ proptest! {
             }
         }
     }
+}
+
+#[test]
+fn a_field_with_near_targets_stops_early_and_one_with_an_unreachable_target_does_not() {
+    let g = GridGeometry::new(60, 60, 0.1, Point2::new(0.0, 0.0));
+    // A wall closes off the column 50 and beyond.
+    let grid = NavGrid::from_fn(g, |c| c.col == 50);
+    let mut field = DistanceField::new();
+    field.compute_until_settled(
+        &grid,
+        &[Cell::new(5, 5)],
+        Connectivity::Eight,
+        &[Cell::new(8, 9)],
+    );
+    let d = field.distance_cells(Cell::new(8, 9)).unwrap();
+    assert!((d - (1.0 + 3.0 * DIAGONAL_COST)).abs() < 1e-12, "{d}");
+    assert!(field.reached_count() < 200, "{}", field.reached_count());
+    field.compute_until_settled(
+        &grid,
+        &[Cell::new(5, 5)],
+        Connectivity::Eight,
+        &[Cell::new(8, 9), Cell::new(55, 5)],
+    );
+    assert_eq!(field.reached_count(), 50 * 60);
+    assert_eq!(field.distance_cells(Cell::new(55, 5)), None);
 }
 
 #[test]

@@ -753,23 +753,30 @@ impl TeamMission {
         let spec = self.config.robot.clone();
         let mut travel = Vec::with_capacity(bidders.len());
         let mut positions = Vec::with_capacity(bidders.len());
+        // The bid grid cells of the candidates: a bidder's search stops once they are priced.
+        let goals: Vec<Cell> = cands
+            .iter()
+            .map(|c| cg.world_to_cell(g.cell_center(c.cell)))
+            .collect();
         for &i in &bidders {
             let pose = self.sim.robot(self.agents[i].id).pose;
             positions.push(pose.position());
             let agent = &mut self.agents[i];
             agent.blacklist.retain(|&(_, until)| until > now);
             let source = nearest_passable(&grid, cg.world_to_cell(pose.position()), 4);
-            agent.field.compute(
+            agent.field.compute_until_settled(
                 &grid,
                 &source.into_iter().collect::<Vec<_>>(),
                 usar_map::planning::Connectivity::Eight,
+                &goals,
             );
             let travel_times = &mut self.travel_times;
             travel_times.reset(&agent.field, pose.theta);
             let row: Vec<Option<crate::bids::Travel>> = cands
                 .iter()
                 .zip(&visited)
-                .map(|(c, &visited)| {
+                .enumerate()
+                .map(|(k, (c, &visited))| {
                     if visited
                         || agent
                             .blacklist
@@ -778,7 +785,7 @@ impl TeamMission {
                     {
                         return None;
                     }
-                    let goal = cg.world_to_cell(g.cell_center(c.cell));
+                    let goal = goals[k];
                     let cells = agent.field.distance_cells(goal)?;
                     let length_m = cells * cg.resolution_m;
                     let time_s = if needs_time {

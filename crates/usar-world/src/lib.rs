@@ -32,7 +32,7 @@ pub use self::atomic::write_atomic;
 pub use self::error::{Result, WorldError};
 pub use self::geometry::{Point2, Pose2, Rect, normalize_angle};
 pub use self::grid::{Cell, Grid, GridGeometry, NEIGHBORS8};
-pub use self::ray::GridRay;
+pub use self::ray::{CellRect, GridRay, RayVisitor, Visit};
 pub use self::scene::{
     Door, GroundTruth, HeatSource, Junction, JunctionKind, Provenance, Room, RoomId, RoomLabel,
     RoomSizeThresholds, Scene, SceneInfo, TerrainFeature, Victim, obstacle, read_scene,

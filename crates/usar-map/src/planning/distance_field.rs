@@ -132,6 +132,8 @@ pub struct DistanceField {
     /// and the one after it.
     buckets: [MoveLists; 3],
     reached: usize,
+    /// Padded indices of the cells a search may stop after settling (reused buffer).
+    pending_targets: Vec<u32>,
 }
 
 impl Default for DistanceField {
@@ -153,6 +155,7 @@ impl DistanceField {
             sources: Vec::new(),
             buckets: Default::default(),
             reached: 0,
+            pending_targets: Vec::new(),
         }
     }
 
@@ -162,6 +165,24 @@ impl DistanceField {
     /// grid of more than 2³² − 1 padded cells) every cell is unreachable. Duplicate sources
     /// count once.
     pub fn compute(&mut self, grid: &NavGrid, sources: &[Cell], connectivity: Connectivity) {
+        self.compute_until_settled(grid, sources, connectivity, &[]);
+    }
+
+    /// [`DistanceField::compute`] that may stop early, once every cell of `targets` is settled
+    /// (an 8-connected search stops after the bucket that settles the last of them; a
+    /// 4-connected one always runs to the end). The distances of the targets, and of every cell
+    /// nearer to the sources than the farthest target, are then final, and so are the paths back
+    /// from them ([`DistanceField::path_to_source`], [`DistanceField::descent_step`]): a path
+    /// descends through nearer cells only. Farther cells may hold a larger, provisional distance
+    /// or none. Targets that are blocked or outside the grid are ignored; one that is not
+    /// reachable makes the search run to the end. With no targets this is `compute`.
+    pub fn compute_until_settled(
+        &mut self,
+        grid: &NavGrid,
+        sources: &[Cell],
+        connectivity: Connectivity,
+        targets: &[Cell],
+    ) {
         let len = grid.cells().len();
         self.geometry = *grid.geometry();
         self.stride = grid.stride();
@@ -197,7 +218,22 @@ impl DistanceField {
         }
         match connectivity {
             Connectivity::Four => self.breadth_first(grid),
-            Connectivity::Eight => self.bucket_dijkstra(),
+            Connectivity::Eight => {
+                let mut pending = std::mem::take(&mut self.pending_targets);
+                pending.clear();
+                pending.extend(
+                    targets
+                        .iter()
+                        .filter(|&&t| grid.is_passable(t))
+                        .map(|&t| grid.padded_index(t) as u32),
+                );
+                // With no target, the search runs until no bucket is left.
+                if targets.is_empty() {
+                    pending.push(u32::MAX);
+                }
+                self.bucket_dijkstra(&pending);
+                self.pending_targets = pending;
+            }
         }
     }
 
@@ -235,7 +271,9 @@ impl DistanceField {
 
     /// Exact Dijkstra with a bucket queue of width 1, one list per move (see the module
     /// documentation).
-    fn bucket_dijkstra(&mut self) {
+    /// Stops once the cells of `targets` (padded indices; `u32::MAX`: none, never settled) are
+    /// settled.
+    fn bucket_dijkstra(&mut self, targets: &[u32]) {
         let stride = self.stride;
         let distance = &mut self.distance[..];
         let [b0, b1, b2] = &mut self.buckets;
@@ -243,25 +281,28 @@ impl DistanceField {
         let (mut current, mut next, mut after) = (b0, b1, b2);
         let mut reached = current[SOURCE_MOVE].len();
         let mut level = 0.0;
+        // Targets settled so far (a prefix of `targets`).
+        let mut settled = 0;
         while [&*current, &*next, &*after]
             .iter()
             .any(|bucket| bucket.iter().any(|list| !list.is_empty()))
         {
-            let (c, n, a) = (&*current, &mut *next, &mut *after);
-            reached += scan_list::<0>(&c[0], distance, stride, level, n, a);
-            reached += scan_list::<1>(&c[1], distance, stride, level, n, a);
-            reached += scan_list::<2>(&c[2], distance, stride, level, n, a);
-            reached += scan_list::<3>(&c[3], distance, stride, level, n, a);
-            reached += scan_list::<4>(&c[4], distance, stride, level, n, a);
-            reached += scan_list::<5>(&c[5], distance, stride, level, n, a);
-            reached += scan_list::<6>(&c[6], distance, stride, level, n, a);
-            reached += scan_list::<7>(&c[7], distance, stride, level, n, a);
-            reached += scan_list::<SOURCE_MOVE>(&c[SOURCE_MOVE], distance, stride, level, n, a);
+            reached += scan_bucket(current, next, after, distance, stride, level);
             for list in current.iter_mut() {
                 list.clear();
             }
             (current, next, after) = (next, after, current);
             level += 1.0;
+            // Every distance below `level` is final now.
+            while let Some(&t) = targets.get(settled) {
+                if t == u32::MAX || distance[t as usize] >= level {
+                    break;
+                }
+                settled += 1;
+            }
+            if settled == targets.len() {
+                break;
+            }
         }
         self.reached = reached;
     }
@@ -390,6 +431,30 @@ impl DistanceField {
     fn cell_of_padded(&self, i: usize) -> Cell {
         Cell::new((i % self.stride) as i32 - 1, (i / self.stride) as i32 - 1)
     }
+}
+
+/// Scans every list of the current bucket (distances in [`level`, `level` + 1)); returns the
+/// number of cells reached for the first time. Out of line: the lists' loops get the registers
+/// to themselves.
+#[inline(never)]
+fn scan_bucket(
+    current: &MoveLists,
+    next: &mut MoveLists,
+    after: &mut MoveLists,
+    distance: &mut [f64],
+    stride: usize,
+    level: f64,
+) -> usize {
+    let (c, n, a) = (current, next, after);
+    scan_list::<0>(&c[0], distance, stride, level, n, a)
+        + scan_list::<1>(&c[1], distance, stride, level, n, a)
+        + scan_list::<2>(&c[2], distance, stride, level, n, a)
+        + scan_list::<3>(&c[3], distance, stride, level, n, a)
+        + scan_list::<4>(&c[4], distance, stride, level, n, a)
+        + scan_list::<5>(&c[5], distance, stride, level, n, a)
+        + scan_list::<6>(&c[6], distance, stride, level, n, a)
+        + scan_list::<7>(&c[7], distance, stride, level, n, a)
+        + scan_list::<SOURCE_MOVE>(&c[SOURCE_MOVE], distance, stride, level, n, a)
 }
 
 /// Scans the cells of the current bucket (distances in [`level`, `level` + 1)) queued by move

@@ -6,9 +6,20 @@
 //! floor) and, among them, the obstacles: a beam above 0 m can only be stopped by a rising cell,
 //! so the walk reads one bit per cell (a bitmap of a 1000 × 1000 grid is 125 kB and stays in
 //! cache), a second one on rising cells and the height itself only on raised floor.
+//!
+//! A third layer makes the walk skip empty space: per cell, its Chebyshev distance (in cells,
+//! up to 255) to the nearest rising cell. A beam above 0 m in a cell at distance c ≥
+//! [`MIN_SKIP_CLEARANCE`] crosses nothing that could stop it before it leaves the square of
+//! half-side c − 1 around that cell, so it jumps to that square's edge in one step
+//! ([`GridRay::walk_skipping`]); the beam ends on the same cell at the same distance as a walk
+//! through every cell.
 
 use std::cmp::Ordering;
-use usar_world::{GridGeometry, GridRay, Point2, Scene};
+use usar_world::{CellRect, GridGeometry, GridRay, Point2, RayVisitor, Scene, Visit};
+
+/// Clearance (cells) from which a beam jumps rather than steps: a jump costs about as much as
+/// walking a few cells.
+const MIN_SKIP_CLEARANCE: u8 = 8;
 
 /// Blocking heights of a scene, built once and shared by every robot's sensors.
 #[derive(Clone, Debug)]
@@ -19,6 +30,99 @@ pub struct SensingWorld {
     rises_above_zero: Vec<u64>,
     /// Set when cell i's blocking height is +∞ (an obstacle).
     blocks_all: Vec<u64>,
+    /// Per cell: Chebyshev distance in cells to the nearest rising cell (0 on one), at most
+    /// 255; cells outside the grid do not count.
+    clearance: Vec<u8>,
+}
+
+/// A beam above 0 m walking the grid: it stops on a rising cell at least as high as the beam
+/// and jumps over the empty space around cells at least [`MIN_SKIP_CLEARANCE`] from any rising
+/// cell.
+struct BeamAbove<'a> {
+    clearance: &'a [u8],
+    blocks_all: &'a [u64],
+    heights: &'a [f32],
+    z_m: f32,
+}
+
+impl RayVisitor for BeamAbove<'_> {
+    #[inline(always)]
+    fn visit(&mut self, i: usize) -> Visit {
+        match self.clearance[i] {
+            0 => {
+                if (self.blocks_all[i / 64] >> (i % 64)) & 1 != 0 || self.heights[i] >= self.z_m {
+                    Visit::Stop
+                } else {
+                    Visit::Next
+                }
+            }
+            c if c >= MIN_SKIP_CLEARANCE => Visit::MaySkip,
+            _ => Visit::Next,
+        }
+    }
+
+    #[inline(always)]
+    fn skip(&mut self, i: usize, col: i32, row: i32) -> Option<CellRect> {
+        let r = i32::from(self.clearance[i]) - 1;
+        Some(CellRect {
+            col_min: col - r,
+            col_max: col + r,
+            row_min: row - r,
+            row_max: row + r,
+        })
+    }
+}
+
+/// Chebyshev distance from each cell to the nearest marked one (0 on a marked cell, 255 at
+/// most, and 255 everywhere when none is): the two-pass chamfer transform with unit weights on
+/// all eight neighbours, which is exact for this metric.
+fn chebyshev_clearance(width: usize, height: usize, marked: impl Fn(usize) -> bool) -> Vec<u8> {
+    let mut d = vec![u8::MAX; width * height];
+    for row in 0..height {
+        for col in 0..width {
+            let i = row * width + col;
+            if marked(i) {
+                d[i] = 0;
+                continue;
+            }
+            let mut best = d[i];
+            if col > 0 {
+                best = best.min(d[i - 1].saturating_add(1));
+            }
+            if row > 0 {
+                let below = i - width;
+                best = best.min(d[below].saturating_add(1));
+                if col > 0 {
+                    best = best.min(d[below - 1].saturating_add(1));
+                }
+                if col + 1 < width {
+                    best = best.min(d[below + 1].saturating_add(1));
+                }
+            }
+            d[i] = best;
+        }
+    }
+    for row in (0..height).rev() {
+        for col in (0..width).rev() {
+            let i = row * width + col;
+            let mut best = d[i];
+            if col + 1 < width {
+                best = best.min(d[i + 1].saturating_add(1));
+            }
+            if row + 1 < height {
+                let above = i + width;
+                best = best.min(d[above].saturating_add(1));
+                if col > 0 {
+                    best = best.min(d[above - 1].saturating_add(1));
+                }
+                if col + 1 < width {
+                    best = best.min(d[above + 1].saturating_add(1));
+                }
+            }
+            d[i] = best;
+        }
+    }
+    d
 }
 
 impl SensingWorld {
@@ -47,12 +151,16 @@ impl SensingWorld {
                 })
                 .collect()
         };
+        // Not ≤ 0, NaN included (its height then decides, as it would without the bitmap).
+        let rises = |h: f32| !matches!(h.partial_cmp(&0.0), Some(Ordering::Less | Ordering::Equal));
+        let g = *scene.geometry();
+        let clearance = chebyshev_clearance(g.width as usize, g.height as usize, |i| {
+            rises(blocking_height_m[i])
+        });
         Self {
-            geometry: *scene.geometry(),
-            // Not ≤ 0, NaN included (its height then decides, as it would without the bitmap).
-            rises_above_zero: bitmap(|h| {
-                !matches!(h.partial_cmp(&0.0), Some(Ordering::Less | Ordering::Equal))
-            }),
+            geometry: g,
+            rises_above_zero: bitmap(rises),
+            clearance,
             blocks_all: bitmap(|h| h == f32::INFINITY),
             blocking_height_m,
         }
@@ -87,9 +195,22 @@ impl SensingWorld {
             // A cell whose bit is clear has a height ≤ 0 < z_m: skip its height.
             let bit = |bits: &[u64], i: usize| (bits[i / 64] >> (i % 64)) & 1 != 0;
             let (rises, blocks_all) = (&self.rises_above_zero, &self.blocks_all);
-            self.first_blocking(origin, cos, sin, max_range_m, |i| {
-                bit(rises, i) && (bit(blocks_all, i) || heights[i] >= z_m)
-            })
+            let blocks = |i| bit(rises, i) && (bit(blocks_all, i) || heights[i] >= z_m);
+            let g = &self.geometry;
+            let max_t = max_range_m / g.resolution_m;
+            // As in `first_blocking`, with the empty space around the beam skipped.
+            let (i, t_entry) = GridRay::new(g, origin, cos, sin).walk_skipping(
+                g.width,
+                g.height,
+                max_t.next_up(),
+                &mut BeamAbove {
+                    clearance: &self.clearance,
+                    blocks_all,
+                    heights,
+                    z_m,
+                },
+            )?;
+            blocks(i).then_some(t_entry * g.resolution_m)
         } else {
             self.first_blocking(origin, cos, sin, max_range_m, |i| heights[i] >= z_m)
         }
@@ -205,6 +326,58 @@ mod tests {
             w.cast_horizontal(Point2::new(1.05, 1.0), -1.0, 0.0, 0.3, 0.5)
                 .is_none()
         );
+    }
+
+    #[test]
+    fn clearance_is_the_chebyshev_distance_to_the_nearest_rising_cell() {
+        let (w, h) = (23usize, 17usize);
+        let marked: Vec<bool> = (0..w * h).map(|i| (i * 7919) % 61 == 0).collect();
+        let d = chebyshev_clearance(w, h, |i| marked[i]);
+        for (i, &clearance) in d.iter().enumerate() {
+            let (c, r) = ((i % w) as i32, (i / w) as i32);
+            let brute = (0..w * h)
+                .filter(|&j| marked[j])
+                .map(|j| {
+                    let (cj, rj) = ((j % w) as i32, (j / w) as i32);
+                    (c - cj).abs().max((r - rj).abs())
+                })
+                .min()
+                .map_or(255, |v| v.min(255) as u8);
+            assert_eq!(clearance, brute, "cell {i}");
+        }
+        assert!(
+            chebyshev_clearance(3, 2, |_| false)
+                .iter()
+                .all(|&v| v == 255)
+        );
+    }
+
+    /// The beam that skips empty space ends exactly (same cell, same distance) where the walk
+    /// through every cell ends, in a room with furniture-like blocks and raised floor.
+    #[test]
+    fn skipping_empty_space_changes_no_range() {
+        let g = GridGeometry::new(300, 200, 0.1, Point2::new(0.0, 0.0));
+        let mut s = Scene::empty("t", g);
+        let mut heights = vec![0.0f32; g.len()];
+        for k in 0..400usize {
+            let (c, r) = ((k * 7919) % 300, (k * 104_729 / 7) % 200);
+            if k % 3 == 0 {
+                s.obstacle[Cell::new(c as i32, r as i32)] = obstacle::WALL;
+            } else {
+                heights[r * 300 + c] = if k % 2 == 0 { 0.2 } else { 0.5 };
+            }
+        }
+        s.floor_height_m = Grid::from_vec(g, heights).unwrap();
+        let w = SensingWorld::new(&s);
+        let heights = w.blocking_height_m.clone();
+        for k in 0..2000usize {
+            let origin = Point2::new(0.05 + (k % 97) as f64 * 0.31, 0.05 + (k % 89) as f64 * 0.22);
+            let (sn, cs) = (k as f64 * 0.0137).sin_cos();
+            let z = 0.3f32;
+            let skipped = w.cast_horizontal(origin, cs, sn, z, 20.0);
+            let walked = w.first_blocking(origin, cs, sn, 20.0, |i| heights[i] >= z);
+            assert_eq!(skipped, walked, "beam {k}");
+        }
     }
 
     #[test]
