@@ -137,19 +137,7 @@ impl TravelDistances {
         row[s] = 0;
         self.queue.clear();
         self.queue.push(s as u32);
-        let mut head = 0;
-        while head < self.queue.len() {
-            let i = self.queue[head] as usize;
-            head += 1;
-            let d = row[i] + 1;
-            for &k in &self.neighbours[i] {
-                let k = k as usize;
-                if row[k] == UNREACHED {
-                    row[k] = d;
-                    self.queue.push(k as u32);
-                }
-            }
-        }
+        spread(row, &mut self.queue, &self.neighbours);
     }
 
     /// Brings row `s` up to date with the cells logged since its last use: each new cell
@@ -180,19 +168,7 @@ impl TravelDistances {
                 self.queue.push(v as u32);
             }
         }
-        let mut head = 0;
-        while head < self.queue.len() {
-            let i = self.queue[head] as usize;
-            head += 1;
-            let d = row[i] + 1;
-            for &k in &self.neighbours[i] {
-                let k = k as usize;
-                if d < row[k] && row[k] != BLOCKED {
-                    row[k] = d;
-                    self.queue.push(k as u32);
-                }
-            }
-        }
+        spread(row, &mut self.queue, &self.neighbours);
     }
 
     /// The first step (direction index, E N W S) from `source` toward reached cell `target`
@@ -247,5 +223,24 @@ impl TravelDistances {
             .iter()
             .position(|&k| self.mark[k as usize] == stamp && dist[k as usize] == 1)
             .map(|k| k as u8)
+    }
+}
+
+/// Spreads shorter distances through passable cells from the cells in `queue` (first in, first
+/// out): a cell takes one more than the cell it is reached from when that is shorter. From a
+/// single source on a fresh row this is the breadth-first search.
+fn spread(row: &mut [u16], queue: &mut Vec<u32>, neighbours: &[[u32; 4]]) {
+    let mut head = 0;
+    while head < queue.len() {
+        let i = queue[head] as usize;
+        head += 1;
+        let d = row[i] + 1;
+        for &k in &neighbours[i] {
+            let k = k as usize;
+            if d < row[k] && row[k] != BLOCKED {
+                row[k] = d;
+                queue.push(k as u32);
+            }
+        }
     }
 }
