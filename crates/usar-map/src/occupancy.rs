@@ -389,8 +389,6 @@ impl OccupancyGrid {
     /// marks. All grids must share one geometry.
     pub fn merge_from(&mut self, sources: &mut [&mut OccupancyGrid]) {
         let n_tiles = self.log.dirty_tiles.len();
-        let w = self.geometry.width as usize;
-        let h = self.geometry.height as usize;
         let side = 1usize << TILE_SHIFT;
         let mut sum = vec![0i16; side];
         let mut observed = vec![false; side];
@@ -398,13 +396,9 @@ impl OccupancyGrid {
             if !sources.iter().any(|s| s.log.dirty_tiles[tile]) {
                 continue;
             }
-            let (tx, ty) = (tile % self.log.tiles_x, tile / self.log.tiles_x);
-            let (x0, y0) = (tx * side, ty * side);
-            let (x1, y1) = ((x0 + side).min(w), (y0 + side).min(h));
-            for row in y0..y1 {
-                let span = row * w + x0..row * w + x1;
-                let sum = &mut sum[..x1 - x0];
-                let observed = &mut observed[..x1 - x0];
+            for span in self.tile_rows(tile) {
+                let sum = &mut sum[..span.len()];
+                let observed = &mut observed[..span.len()];
                 sum.fill(0);
                 observed.fill(false);
                 for s in sources.iter() {
@@ -420,18 +414,37 @@ impl OccupancyGrid {
                     }
                 }
                 for (k, (&total, &seen)) in sum.iter().zip(observed.iter()).enumerate() {
-                    let target = if seen {
-                        total.clamp(-i16::from(LOGODDS_LIMIT), i16::from(LOGODDS_LIMIT)) as i8
-                    } else {
-                        NEVER_OBSERVED
-                    };
-                    self.cells().set(span.start + k, target);
+                    self.cells()
+                        .set(span.start + k, merged_logodds(total, seen));
                 }
             }
         }
         for s in sources.iter_mut() {
             s.log.dirty_tiles.fill(false);
         }
+    }
+}
+
+impl OccupancyGrid {
+    /// The cell-index spans of tile `tile`'s rows, south to north (tiles of the change log).
+    fn tile_rows(&self, tile: usize) -> impl Iterator<Item = std::ops::Range<usize>> + use<> {
+        let (w, h) = (self.geometry.width as usize, self.geometry.height as usize);
+        let side = 1usize << TILE_SHIFT;
+        let (x0, y0) = (
+            (tile % self.log.tiles_x) * side,
+            (tile / self.log.tiles_x) * side,
+        );
+        let x1 = (x0 + side).min(w);
+        (y0..(y0 + side).min(h)).map(move |row| row * w + x0..row * w + x1)
+    }
+}
+
+/// A merged cell: the clamped sum of its observers' log-odds, or never observed.
+fn merged_logodds(sum: i16, observed: bool) -> i8 {
+    if observed {
+        sum.clamp(-i16::from(LOGODDS_LIMIT), i16::from(LOGODDS_LIMIT)) as i8
+    } else {
+        NEVER_OBSERVED
     }
 }
 
@@ -465,22 +478,15 @@ impl OccupancyGrid {
             }
         }
         let n_tiles = self.log.dirty_tiles.len();
-        let w = self.geometry.width as usize;
-        let h = self.geometry.height as usize;
-        let side = 1usize << TILE_SHIFT;
         for tile in 0..n_tiles {
             if !sources.iter().any(|s| s.log.dirty_tiles[tile]) {
                 continue;
             }
-            let (tx, ty) = (tile % self.log.tiles_x, tile / self.log.tiles_x);
-            let (x0, y0) = (tx * side, ty * side);
-            let (x1, y1) = ((x0 + side).min(w), (y0 + side).min(h));
             for (s, last) in sources.iter().zip(sums.last.iter_mut()) {
                 if !s.log.dirty_tiles[tile] {
                     continue;
                 }
-                for row in y0..y1 {
-                    let span = row * w + x0..row * w + x1;
+                for span in self.tile_rows(tile) {
                     for (k, (&now, was)) in s.logodds[span.clone()]
                         .iter()
                         .zip(&mut last[span.clone()])
@@ -502,13 +508,9 @@ impl OccupancyGrid {
                     }
                 }
             }
-            for row in y0..y1 {
-                for i in row * w + x0..row * w + x1 {
-                    let target = if sums.observers[i] > 0 {
-                        sums.sum[i].clamp(-i16::from(LOGODDS_LIMIT), i16::from(LOGODDS_LIMIT)) as i8
-                    } else {
-                        NEVER_OBSERVED
-                    };
+            for span in self.tile_rows(tile) {
+                for i in span {
+                    let target = merged_logodds(sums.sum[i], sums.observers[i] > 0);
                     self.cells().set(i, target);
                 }
             }
