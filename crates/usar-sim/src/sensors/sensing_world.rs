@@ -77,49 +77,29 @@ impl RayVisitor for BeamAbove<'_> {
 /// most, and 255 everywhere when none is): the two-pass chamfer transform with unit weights on
 /// all eight neighbours, which is exact for this metric.
 fn chebyshev_clearance(width: usize, height: usize, marked: impl Fn(usize) -> bool) -> Vec<u8> {
-    let mut d = vec![u8::MAX; width * height];
+    /// Neighbours visited before a cell: west and south going forward, east and north back.
+    const FORWARD: [(isize, isize); 4] = [(-1, 0), (-1, -1), (0, -1), (1, -1)];
+    const BACKWARD: [(isize, isize); 4] = [(1, 0), (1, 1), (0, 1), (-1, 1)];
+    let mut d: Vec<u8> = (0..width * height)
+        .map(|i| if marked(i) { 0 } else { u8::MAX })
+        .collect();
+    let mut relax = |col: usize, row: usize, neighbours: &[(isize, isize); 4]| {
+        let i = row * width + col;
+        for &(dc, dr) in neighbours {
+            let (c, r) = (col.wrapping_add_signed(dc), row.wrapping_add_signed(dr));
+            if c < width && r < height {
+                d[i] = d[i].min(d[r * width + c].saturating_add(1));
+            }
+        }
+    };
     for row in 0..height {
         for col in 0..width {
-            let i = row * width + col;
-            if marked(i) {
-                d[i] = 0;
-                continue;
-            }
-            let mut best = d[i];
-            if col > 0 {
-                best = best.min(d[i - 1].saturating_add(1));
-            }
-            if row > 0 {
-                let below = i - width;
-                best = best.min(d[below].saturating_add(1));
-                if col > 0 {
-                    best = best.min(d[below - 1].saturating_add(1));
-                }
-                if col + 1 < width {
-                    best = best.min(d[below + 1].saturating_add(1));
-                }
-            }
-            d[i] = best;
+            relax(col, row, &FORWARD);
         }
     }
     for row in (0..height).rev() {
         for col in (0..width).rev() {
-            let i = row * width + col;
-            let mut best = d[i];
-            if col + 1 < width {
-                best = best.min(d[i + 1].saturating_add(1));
-            }
-            if row + 1 < height {
-                let above = i + width;
-                best = best.min(d[above].saturating_add(1));
-                if col > 0 {
-                    best = best.min(d[above - 1].saturating_add(1));
-                }
-                if col + 1 < width {
-                    best = best.min(d[above + 1].saturating_add(1));
-                }
-            }
-            d[i] = best;
+            relax(col, row, &BACKWARD);
         }
     }
     d
