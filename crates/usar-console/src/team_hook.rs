@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use usar_map::CellClass;
 use usar_map::planning::{Connectivity, GridAStar, NavGrid};
 use usar_sim::{CellAction, Velocity};
-use usar_team::driver::{ESCAPES, PathFollower, RECOVERY_S};
+use usar_team::driver::{PathFollower, Recovery, RecoveryStep};
 use usar_team::{MissionHook, Strategy, TeamMission};
 use usar_world::Scene;
 
@@ -38,11 +38,11 @@ enum Override {
         velocity: Velocity,
         until: Instant,
     },
-    /// Sent to a point: the path, and the recovery manoeuvre under way after a bump (the
-    /// index into [`ESCAPES`] and when it ends, simulated seconds), as the team's own robots.
+    /// Sent to a point: the path, and the recovery manoeuvre under way after a bump, as the
+    /// team's own robots.
     Path {
         follower: PathFollower,
-        recovery: Option<(usize, f64)>,
+        recovery: Option<Recovery>,
     },
 }
 
@@ -618,21 +618,14 @@ impl MissionHook for ConsoleHook {
                     self.overrides[k] = None;
                     continue;
                 }
-                // After a bump: back up, turn either way, creep forward (the mission's own
-                // escapes, the next one as soon as one bumps too), then follow the path again.
-                *recovery = match *recovery {
-                    Some((e, until)) if self.sim_s < until && r.in_contact() => {
-                        Some(((e + 1) % ESCAPES.len(), self.sim_s + RECOVERY_S))
-                    }
-                    Some((e, until)) if self.sim_s < until => Some((e, until)),
-                    Some(_) => None,
-                    None if r.in_contact() => Some((0, self.sim_s + RECOVERY_S)),
-                    None => None,
-                };
-                self.path_commands[k] = Some(match *recovery {
-                    Some((e, _)) => ESCAPES[e],
-                    None => follower.command(r.pose, &r.spec),
-                });
+                // After a bump the team's own escapes, then the path again.
+                self.path_commands[k] =
+                    Some(match Recovery::step(recovery, self.sim_s, r.in_contact()) {
+                        RecoveryStep::Escape(v) => v,
+                        RecoveryStep::Ended | RecoveryStep::Free => {
+                            follower.command(r.pose, &r.spec)
+                        }
+                    });
             }
         }
         self.shared.clock.advance_to(self.sim_s);

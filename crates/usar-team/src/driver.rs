@@ -8,8 +8,8 @@ use usar_world::{Point2, Pose2, normalize_angle};
 /// turn, each for [`RECOVERY_S`], moving on to the next as soon as one bumps too; then it plans
 /// again. Backing up comes first; turning either way and creeping forward free a robot wedged
 /// with a corner behind it.
-pub const RECOVERY_S: f64 = 1.0;
-pub const ESCAPES: [Velocity; 6] = [
+const RECOVERY_S: f64 = 1.0;
+const ESCAPES: [Velocity; 6] = [
     Velocity {
         linear_mps: -0.15,
         angular_radps: 0.0,
@@ -35,6 +35,55 @@ pub const ESCAPES: [Velocity; 6] = [
         angular_radps: 0.0,
     },
 ];
+
+/// A recovery manoeuvre under way: the index into [`ESCAPES`] being tried and when it ends,
+/// simulated seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Recovery {
+    escape: usize,
+    until_s: f64,
+}
+
+/// What recovery asks of a robot this step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RecoveryStep {
+    /// Drive this escape manoeuvre.
+    Escape(Velocity),
+    /// The manoeuvre just ended: the robot is free to plan and drive again.
+    Ended,
+    /// No recovery: drive as planned.
+    Free,
+}
+
+impl Recovery {
+    /// Advances `state` at time `now_s` given whether the robot's last motion bumped: a bump
+    /// starts the first escape, a bump during an escape moves on to the next one, and an escape
+    /// ends after [`RECOVERY_S`].
+    pub fn step(state: &mut Option<Recovery>, now_s: f64, in_contact: bool) -> RecoveryStep {
+        let start = |escape: usize| Recovery {
+            escape,
+            until_s: now_s + RECOVERY_S,
+        };
+        match *state {
+            Some(r) if now_s < r.until_s => {
+                if in_contact {
+                    // This manoeuvre bumps too: try the next one.
+                    *state = Some(start((r.escape + 1) % ESCAPES.len()));
+                }
+                RecoveryStep::Escape(ESCAPES[state.map_or(r.escape, |r| r.escape)])
+            }
+            Some(_) => {
+                *state = None;
+                RecoveryStep::Ended
+            }
+            None if in_contact => {
+                *state = Some(start(0));
+                RecoveryStep::Escape(ESCAPES[0])
+            }
+            None => RecoveryStep::Free,
+        }
+    }
+}
 
 #[derive(Clone, Debug, Default)]
 pub struct PathFollower {

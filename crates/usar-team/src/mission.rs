@@ -6,7 +6,7 @@ use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
 use crate::bids::{Measures, TeamSizer};
 use crate::config::{Strategy, TeamConfig};
-use crate::driver::{ESCAPES, PathFollower, RECOVERY_S};
+use crate::driver::{PathFollower, Recovery, RecoveryStep};
 use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 use crate::semantic_map::SemanticMap;
@@ -102,8 +102,8 @@ struct Agent {
     trajectory: Vec<Point2>,
     /// Path costs from the robot, reused between assignments.
     field: DistanceField,
-    /// A recovery in progress: the index into [`ESCAPES`] being tried and when it ends.
-    recovery: Option<(usize, f64)>,
+    /// A recovery manoeuvre in progress.
+    recovery: Option<Recovery>,
     /// Recoveries since the current target was assigned.
     recoveries: u32,
     /// Retracing its own trajectory out of a pocket the map no longer connects.
@@ -999,18 +999,9 @@ impl TeamMission {
                 .enumerate()
                 .map(|(i, a)| {
                     let r = self.sim.robot(a.id);
-                    match a.recovery {
-                        Some((escape, until)) if now < until => {
-                            if r.in_contact() {
-                                // This manoeuvre bumps too: try the next one.
-                                let next = (escape + 1) % ESCAPES.len();
-                                a.recovery = Some((next, now + RECOVERY_S));
-                                return ESCAPES[next];
-                            }
-                            ESCAPES[escape]
-                        }
-                        Some(_) => {
-                            a.recovery = None;
+                    match Recovery::step(&mut a.recovery, now, r.in_contact()) {
+                        RecoveryStep::Escape(v) => v,
+                        RecoveryStep::Ended => {
                             a.recoveries += 1;
                             if a.recoveries >= MAX_RECOVERIES
                                 && let Some(t) = a.target.take()
@@ -1021,11 +1012,7 @@ impl TeamMission {
                             replan.push(i);
                             Velocity::default()
                         }
-                        None if r.in_contact() => {
-                            a.recovery = Some((0, now + RECOVERY_S));
-                            ESCAPES[0]
-                        }
-                        None => {
+                        RecoveryStep::Free => {
                             let mut cmd = a.follower.command(r.pose, &r.spec);
                             if cmd.linear_mps > 0.0
                                 && self.sim.robots()[..i]
