@@ -82,12 +82,11 @@ impl FrontierTracker {
     }
 
     /// Takes the frontier cells within `radius_cells` (Euclidean, centre to centre) of `center`
-    /// out of the clusters for the rest of the tracker's life, and returns how many. For an
+    /// out of the clusters for the rest of the tracker's life. For an
     /// explorer that stood there and scanned: what it still could not see from so near lies
     /// where its sensor cannot look (behind furniture, or inside a wall that the map's cells
     /// straddle), and would draw robot after robot.
-    pub fn retire_near(&mut self, center: Cell, radius_cells: i32) -> usize {
-        let mut count = 0;
+    pub fn retire_near(&mut self, center: Cell, radius_cells: i32) {
         let r2 = radius_cells * radius_cells;
         for dr in -radius_cells..=radius_cells {
             for dc in -radius_cells..=radius_cells {
@@ -96,13 +95,11 @@ impl FrontierTracker {
                     continue;
                 }
                 let i = r as usize * self.width as usize + c as usize;
-                if self.slot[i] != ABSENT && !self.retired[i] {
+                if self.slot[i] != ABSENT {
                     self.retired[i] = true;
-                    count += 1;
                 }
             }
         }
-        count
     }
 
     /// Frontier cell indices, sorted.

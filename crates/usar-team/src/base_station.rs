@@ -6,7 +6,7 @@ use crate::coverage::CoverageCounter;
 use usar_map::occupancy::MergeSums;
 use usar_map::planning::NavGrid;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
-use usar_world::{GridGeometry, Scene};
+use usar_world::{Cell, GridGeometry, Scene};
 
 pub struct BaseStation {
     pub merged: OccupancyGrid,
@@ -20,6 +20,11 @@ pub struct BaseStation {
     /// The planners' view of `navigable` and `navigable_tight` (passable = navigable), kept in
     /// step at every merge from the cells whose navigability may have changed.
     pub nav_grids: [NavGrid; 2],
+    /// The coarse grid paper 002's bids are priced on (`bid_grid_factor` map cells a side): a
+    /// cell is passable when any map cell inside it is navigable with the tight radius
+    /// (optimistic, so no doorway closes; the path driven is planned on the map itself).
+    pub bid_grid: NavGrid,
+    bid_grid_factor: u32,
     changed: Vec<u32>,
     /// Cells whose tight navigability may have changed at the last merge.
     touched_tight: Vec<u32>,
@@ -36,9 +41,11 @@ impl BaseStation {
         params: OccupancyParams,
         radius_m: f64,
         tight_radius_m: f64,
+        bid_grid_factor: usize,
         start: usar_world::Point2,
     ) -> Self {
         let merged = OccupancyGrid::new(geometry, params);
+        let k = bid_grid_factor.max(1) as u32;
         Self {
             frontiers: FrontierTracker::new(&merged),
             navigable: NavigableMap::new(&merged, radius_m),
@@ -49,6 +56,13 @@ impl BaseStation {
                 NavGrid::all_blocked(geometry),
                 NavGrid::all_blocked(geometry),
             ],
+            bid_grid: NavGrid::all_blocked(GridGeometry::new(
+                geometry.width.div_ceil(k),
+                geometry.height.div_ceil(k),
+                geometry.resolution_m * f64::from(k),
+                geometry.origin,
+            )),
+            bid_grid_factor: k,
             merged,
             changed: Vec::new(),
             touched_tight: Vec::new(),
@@ -86,12 +100,19 @@ impl BaseStation {
                     .set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
             }
         }
+        // The bid grid: only the coarse cells over map cells whose tight navigability may have
+        // changed are looked at again.
+        let k = self.bid_grid_factor as i32;
+        let tight = &self.nav_grids[1];
+        for &i in &self.touched_tight {
+            let f = g.cell_of_index(i as usize);
+            let c = Cell::new(f.col / k, f.row / k);
+            let passable = (0..k).any(|dr| {
+                (0..k).any(|dc| tight.is_passable(Cell::new(c.col * k + dc, c.row * k + dr)))
+            });
+            self.bid_grid.set_passable(c, passable);
+        }
         self.coverage.update_from(&self.merged, &self.changed);
-    }
-
-    /// The cells whose tight navigability may have changed at the last merge (with repeats).
-    pub fn last_touched_tight(&self) -> &[u32] {
-        &self.touched_tight
     }
 
     /// The cells whose class changed at the last merge.

@@ -145,12 +145,6 @@ pub struct TeamMission {
     base: BaseStation,
     victims_seen: Vec<VictimSighting>,
     samples: Vec<Sample>,
-    /// Planning grids from the merged map (full radius, tight radius), built on first use after
-    /// each merge.
-    nav_grids: Option<[NavGrid; 2]>,
-    /// The coarse grid bids are priced on, kept in step at each merge (taken out during an
-    /// auction).
-    bid_grid: Option<NavGrid>,
     semantic: SemanticMap,
     measures: Measures,
     sizer: TeamSizer,
@@ -295,6 +289,7 @@ impl TeamMission {
             params,
             config.robot.circumscribed_radius_m() + half_cell,
             tight,
+            config.exploration.bid_grid_factor,
             start,
         );
         let semantic = SemanticMap::new(
@@ -304,6 +299,7 @@ impl TeamMission {
             config.exploration.label_errors,
             Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM)),
         );
+        let team_sizes = vec![None; semantic.rooms().len()];
         Ok(Self {
             sizer: TeamSizer::new(config.exploration.max_robots_per_candidate),
             relevant_target: config.stop_at_relevant.unwrap_or(DEFAULT_RELEVANT_TARGET),
@@ -313,8 +309,6 @@ impl TeamMission {
             base,
             victims_seen: Vec::new(),
             samples: Vec::new(),
-            nav_grids: None,
-            bid_grid: None,
             semantic,
             measures,
             planner: GridAStar::new(),
@@ -324,7 +318,7 @@ impl TeamMission {
             assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
             visited: Vec::new(),
             allocations: Vec::new(),
-            team_sizes: Vec::new(),
+            team_sizes,
             arrivals: Vec::new(),
             time_to_relevant_s: None,
         })
@@ -406,8 +400,6 @@ impl TeamMission {
         {
             self.time_to_relevant_s = Some(self.sim.time_s());
         }
-        self.nav_grids = None;
-        self.update_bid_grid();
         // Arrivals whose scan on the spot is in the merged map now.
         let now = self.sim.time_s();
         let settled = now - self.config.timing.scan_period_s;
@@ -439,45 +431,6 @@ impl TeamMission {
         }
     }
 
-    /// Where the robot's plan starts: its own cell when navigable, otherwise every navigable
-    /// cell a breadth-first search through known-free cells reaches within 1.5 m — the start
-    /// never lies behind a wall the robot stands next to, and a pocket the robot squeezed into
-    /// (navigable but cut off) is not its only way out.
-    fn source_cells(&self, grid: &NavGrid, p: Point2, all: bool) -> Vec<Cell> {
-        let merged = &self.base.merged;
-        let g = merged.geometry();
-        let start = g.world_to_cell(p);
-        if grid.is_passable(start) {
-            return vec![start];
-        }
-        let reach = (1.5 / g.resolution_m).ceil() as i32;
-        let mut queue = std::collections::VecDeque::from([start]);
-        let mut seen = std::collections::BTreeSet::from([start]);
-        let mut sources = Vec::new();
-        while let Some(c) = queue.pop_front() {
-            for (dc, dr) in usar_world::NEIGHBORS8 {
-                let n = Cell::new(c.col + dc, c.row + dr);
-                if !g.contains(n) || n.chebyshev(start) > reach || !seen.insert(n) {
-                    continue;
-                }
-                if grid.is_passable(n) {
-                    sources.push(n);
-                    if !all {
-                        return sources;
-                    }
-                }
-                if merged.class(n) == usar_map::CellClass::Free {
-                    queue.push_back(n);
-                }
-            }
-        }
-        if sources.is_empty() {
-            sources.push(start);
-        }
-        sources.sort();
-        sources
-    }
-
     /// Reassigns targets to the robots in `who` (all robots at a periodic auction, or those
     /// that reached their target or got stuck).
     fn assign(&mut self, who: &[usize]) -> bool {
@@ -493,10 +446,6 @@ impl TeamMission {
         };
         let cands: Vec<Candidate> =
             candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
-        let mut grids = self.nav_grids.take().unwrap_or_else(|| {
-            [&self.base.navigable, &self.base.navigable_tight]
-                .map(|nav| NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c))))
-        });
         let now = self.sim.time_s();
         // Targets of robots that keep theirs are taken (one robot per candidate).
         let keep: Vec<Cell> = (0..self.agents.len())
@@ -519,12 +468,12 @@ impl TeamMission {
             // Plan with the full radius from the nearest navigable cell; if nothing is reachable,
             // squeeze with the tight radius; last, start from every navigable cell nearby.
             for (grid, all_sources) in [(0, false), (1, false), (1, true)] {
-                let grid = &mut grids[grid];
+                let grid = &mut self.base.nav_grids[grid];
                 let mut closed = Vec::new();
                 for &p in &others {
                     block_disc(grid, p, clearance, &mut closed);
                 }
-                let sources = self.source_cells(grid, pose.position(), all_sources);
+                let sources = source_cells(&self.base.merged, grid, pose.position(), all_sources);
                 let was_passable: Vec<bool> =
                     sources.iter().map(|&c| grid.is_passable(c)).collect();
                 for &c in &sources {
@@ -558,7 +507,6 @@ impl TeamMission {
             }
             costs.push(row);
         }
-        self.nav_grids = Some(grids);
         let chosen = assign_nearest(&costs);
         let mut any = false;
         for (k, &i) in who.iter().enumerate() {
@@ -605,32 +553,6 @@ impl TeamMission {
         agent.escaping = !agent.follower.is_empty();
     }
 
-    /// The coarse grid bids are priced on: a cell is passable when any map cell inside it is
-    /// navigable with the tight radius (optimistic, so no doorway closes; the path driven is
-    /// planned on the map itself). Kept in step at every merge: only the coarse cells over map
-    /// cells whose tight navigability may have changed are looked at again.
-    fn update_bid_grid(&mut self) {
-        let k = self.config.exploration.bid_grid_factor as i32;
-        let fine = *self.base.merged.geometry();
-        let grid = self.bid_grid.get_or_insert_with(|| {
-            NavGrid::all_blocked(GridGeometry::new(
-                fine.width.div_ceil(k as u32),
-                fine.height.div_ceil(k as u32),
-                fine.resolution_m * f64::from(k),
-                fine.origin,
-            ))
-        });
-        let tight = &self.base.nav_grids[1];
-        for &i in self.base.last_touched_tight() {
-            let f = fine.cell_of_index(i as usize);
-            let c = Cell::new(f.col / k, f.row / k);
-            let passable = (0..k).any(|dr| {
-                (0..k).any(|dc| tight.is_passable(Cell::new(c.col * k + dc, c.row * k + dr)))
-            });
-            grid.set_passable(c, passable);
-        }
-    }
-
     /// A path on the map from robot `i` to `goal`: with the full radius if possible, else with
     /// the tight one. Waypoints from the robot to the goal.
     fn plan_path(&mut self, i: usize, goal: Cell) -> Option<Vec<Point2>> {
@@ -638,22 +560,17 @@ impl TeamMission {
         let here = self.sim.robot(self.agents[i].id).pose.position();
         let mut found = None;
         for radius in 0..2 {
-            // The base station's grid, lent for the query (start and goal opened, then closed
-            // again).
-            let mut grid = std::mem::replace(
-                &mut self.base.nav_grids[radius],
-                NavGrid::all_blocked(GridGeometry::new(0, 0, 1.0, g.origin)),
-            );
-            let start = self.source_cells(&grid, here, false)[0];
+            // The base station's grid (start and goal opened for the query, then closed again).
+            let grid = &mut self.base.nav_grids[radius];
+            let start = source_cells(&self.base.merged, grid, here, false)[0];
             let was = (grid.is_passable(start), grid.is_passable(goal));
             grid.set_passable(start, true);
             grid.set_passable(goal, true);
             let path =
                 self.planner
-                    .plan(&grid, start, goal, usar_map::planning::Connectivity::Eight);
+                    .plan(grid, start, goal, usar_map::planning::Connectivity::Eight);
             grid.set_passable(start, was.0);
             grid.set_passable(goal, was.1);
-            self.base.nav_grids[radius] = grid;
             if let Some(p) = path {
                 found = Some(p.cells.iter().map(|&c| g.cell_center(c)).collect());
                 break;
@@ -728,9 +645,6 @@ impl TeamMission {
                     return 1;
                 };
                 let perceived = self.semantic.perceived_fraction(k);
-                if self.team_sizes.len() <= k {
-                    self.team_sizes.resize(k + 1, None);
-                }
                 match self.team_sizes[k] {
                     Some((l, f, n)) if l == label && f == perceived => n,
                     _ => {
@@ -744,7 +658,7 @@ impl TeamMission {
             })
             .collect();
         // Path lengths and times from each bidder, on the coarse grid.
-        let grid = self.bid_grid.take().expect("built at every merge");
+        let grid = &self.base.bid_grid;
         let cg = *grid.geometry();
         let needs_time = matches!(
             self.config.exploration.strategy,
@@ -753,36 +667,43 @@ impl TeamMission {
         let spec = self.config.robot.clone();
         let mut travel = Vec::with_capacity(bidders.len());
         let mut positions = Vec::with_capacity(bidders.len());
-        // The bid grid cells of the candidates: a bidder's search stops once they are priced.
+        // The bid grid cells of the candidates: a bidder's search stops once those it prices
+        // are settled.
         let goals: Vec<Cell> = cands
             .iter()
             .map(|c| cg.world_to_cell(g.cell_center(c.cell)))
             .collect();
+        let mut live = vec![false; cands.len()];
+        let mut targets = Vec::with_capacity(cands.len());
         for &i in &bidders {
             let pose = self.sim.robot(self.agents[i].id).pose;
             positions.push(pose.position());
             let agent = &mut self.agents[i];
             agent.blacklist.retain(|&(_, until)| until > now);
-            let source = nearest_passable(&grid, cg.world_to_cell(pose.position()), 4);
+            // Candidates this bidder prices: not visited, not near its blacklisted targets.
+            targets.clear();
+            for (k, (c, &visited)) in cands.iter().zip(&visited).enumerate() {
+                live[k] = !visited
+                    && !agent
+                        .blacklist
+                        .iter()
+                        .any(|&(b, _)| b.chebyshev(c.cell) <= 3);
+                if live[k] {
+                    targets.push(goals[k]);
+                }
+            }
+            let source = nearest_passable(grid, cg.world_to_cell(pose.position()), 4);
             agent.field.compute_until_settled(
-                &grid,
+                grid,
                 &source.into_iter().collect::<Vec<_>>(),
                 usar_map::planning::Connectivity::Eight,
-                &goals,
+                &targets,
             );
             let travel_times = &mut self.travel_times;
             travel_times.reset(&agent.field, pose.theta);
-            let row: Vec<Option<crate::bids::Travel>> = cands
-                .iter()
-                .zip(&visited)
-                .enumerate()
-                .map(|(k, (c, &visited))| {
-                    if visited
-                        || agent
-                            .blacklist
-                            .iter()
-                            .any(|&(b, _)| b.chebyshev(c.cell) <= 3)
-                    {
+            let row: Vec<Option<crate::bids::Travel>> = (0..cands.len())
+                .map(|k| {
+                    if !live[k] {
                         return None;
                     }
                     let goal = goals[k];
@@ -798,7 +719,6 @@ impl TeamMission {
                 .collect();
             travel.push(row);
         }
-        self.bid_grid = Some(grid);
         let mut bids = crate::bids::bids(
             self.config.exploration.strategy,
             &self.measures,
@@ -1249,4 +1169,42 @@ fn block_disc(grid: &mut NavGrid, p: Point2, radius_m: f64, changed: &mut Vec<Ce
             }
         }
     }
+}
+
+/// Where the robot's plan starts: its own cell when navigable, otherwise every navigable
+/// cell a breadth-first search through known-free cells reaches within 1.5 m — the start
+/// never lies behind a wall the robot stands next to, and a pocket the robot squeezed into
+/// (navigable but cut off) is not its only way out.
+fn source_cells(merged: &OccupancyGrid, grid: &NavGrid, p: Point2, all: bool) -> Vec<Cell> {
+    let g = merged.geometry();
+    let start = g.world_to_cell(p);
+    if grid.is_passable(start) {
+        return vec![start];
+    }
+    let reach = (1.5 / g.resolution_m).ceil() as i32;
+    let mut queue = std::collections::VecDeque::from([start]);
+    let mut seen = std::collections::BTreeSet::from([start]);
+    let mut sources = Vec::new();
+    while let Some(c) = queue.pop_front() {
+        for (dc, dr) in usar_world::NEIGHBORS8 {
+            let n = Cell::new(c.col + dc, c.row + dr);
+            if !g.contains(n) || n.chebyshev(start) > reach || !seen.insert(n) {
+                continue;
+            }
+            if grid.is_passable(n) {
+                sources.push(n);
+                if !all {
+                    return sources;
+                }
+            }
+            if merged.class(n) == usar_map::CellClass::Free {
+                queue.push_back(n);
+            }
+        }
+    }
+    if sources.is_empty() {
+        sources.push(start);
+    }
+    sources.sort();
+    sources
 }
