@@ -2,13 +2,10 @@
 //! of each cell, or +∞ where a wall or furniture stands. A beam at height z is stopped by the
 //! first cell whose blocking height reaches z.
 //!
-//! Two bitmaps beside the heights mark the cells that rise above 0 m (walls, furniture, raised
-//! floor) and, among them, the obstacles: a beam above 0 m can only be stopped by a rising cell,
-//! so the walk reads one bit per cell (a bitmap of a 1000 × 1000 grid is 125 kB and stays in
-//! cache), a second one on rising cells and the height itself only on raised floor.
-//!
-//! A third layer makes the walk skip empty space: per cell, its Chebyshev distance (in cells,
-//! up to 255) to the nearest rising cell. A beam above 0 m in a cell at distance c ≥
+//! A beam above 0 m can only be stopped by a cell that rises above 0 m (walls, furniture, raised
+//! floor). Per cell, a layer holds its Chebyshev distance (in cells, up to 255) to the nearest
+//! rising cell — 0 on a rising cell — so the walk reads one byte per cell, a bitmap of the
+//! obstacles on rising cells and the height itself only on raised floor. A beam above 0 m in a cell at distance c ≥
 //! [`MIN_SKIP_CLEARANCE`] crosses nothing that could stop it before it leaves the square of
 //! half-side c − 1 around that cell, so it jumps to that square's edge in one step
 //! ([`GridRay::walk_skipping`]); the beam ends on the same cell at the same distance as a walk
@@ -26,8 +23,6 @@ const MIN_SKIP_CLEARANCE: u8 = 8;
 pub struct SensingWorld {
     geometry: GridGeometry,
     blocking_height_m: Vec<f32>,
-    /// Bit `i % 64` of word `i / 64` is set when cell i's blocking height is not ≤ 0 m.
-    rises_above_zero: Vec<u64>,
     /// Set when cell i's blocking height is +∞ (an obstacle).
     blocks_all: Vec<u64>,
     /// Per cell: Chebyshev distance in cells to the nearest rising cell (0 on one), at most
@@ -139,7 +134,6 @@ impl SensingWorld {
         });
         Self {
             geometry: g,
-            rises_above_zero: bitmap(rises),
             clearance,
             blocks_all: bitmap(|h| h == f32::INFINITY),
             blocking_height_m,
@@ -172,10 +166,13 @@ impl SensingWorld {
     ) -> Option<f64> {
         let heights = self.blocking_height_m.as_slice();
         if z_m > 0.0 {
-            // A cell whose bit is clear has a height ≤ 0 < z_m: skip its height.
-            let bit = |bits: &[u64], i: usize| (bits[i / 64] >> (i % 64)) & 1 != 0;
-            let (rises, blocks_all) = (&self.rises_above_zero, &self.blocks_all);
-            let blocks = |i| bit(rises, i) && (bit(blocks_all, i) || heights[i] >= z_m);
+            // A cell at a clearance above 0 has a height ≤ 0 < z_m: skip its height.
+            let mut beam = BeamAbove {
+                clearance: &self.clearance,
+                blocks_all: &self.blocks_all,
+                heights,
+                z_m,
+            };
             let g = &self.geometry;
             let max_t = max_range_m / g.resolution_m;
             // As in `first_blocking`, with the empty space around the beam skipped.
@@ -183,14 +180,9 @@ impl SensingWorld {
                 g.width,
                 g.height,
                 max_t.next_up(),
-                &mut BeamAbove {
-                    clearance: &self.clearance,
-                    blocks_all,
-                    heights,
-                    z_m,
-                },
+                &mut beam,
             )?;
-            blocks(i).then_some(t_entry * g.resolution_m)
+            (beam.visit(i) == Visit::Stop).then_some(t_entry * g.resolution_m)
         } else {
             self.first_blocking(origin, cos, sin, max_range_m, |i| heights[i] >= z_m)
         }
