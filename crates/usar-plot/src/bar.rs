@@ -1,6 +1,6 @@
 //! Bar charts with error bars (mean ± sd per configuration).
 
-use crate::{Drawable, PALETTE, PlotError};
+use crate::{Drawable, PlotError};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
@@ -62,14 +62,13 @@ impl Drawable for BarChart {
         let label_style = TextStyle::from(("sans-serif", 15).into_font())
             .pos(Pos::new(HPos::Center, VPos::Bottom));
         for (k, b) in self.bars.iter().enumerate() {
-            let (r, g, bl) = PALETTE[k % PALETTE.len()];
             let x = k as f64;
             let (lo, hi) = (b.value - b.error, b.value + b.error);
             let mid = x + 0.5;
             chart
                 .draw_series(std::iter::once(Rectangle::new(
                     [(x + 0.15, 0.0), (x + 0.85, b.value)],
-                    RGBColor(r, g, bl).filled(),
+                    crate::colour(k).filled(),
                 )))
                 .map_err(e)?;
             chart

@@ -1,7 +1,7 @@
 //! Grouped bar charts: for every group (e.g. a participant) one bar per series (e.g. a control
 //! mode), side by side, with a legend — the layout of paper 000's Fig. 16–18.
 
-use crate::{Drawable, PALETTE, PlotError};
+use crate::{Drawable, PlotError};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
@@ -53,8 +53,7 @@ impl Drawable for GroupedBarChart {
         let m = self.series.len().max(1) as f64;
         let width = 0.8 / m;
         for (s, (name, values)) in self.series.iter().enumerate() {
-            let (r, g, b) = PALETTE[s % PALETTE.len()];
-            let color = RGBColor(r, g, b);
+            let color = crate::colour(s);
             let left = |k: usize| k as f64 + 0.1 + s as f64 * width;
             chart
                 .draw_series(

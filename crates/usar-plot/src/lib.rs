@@ -75,6 +75,12 @@ pub const PALETTE: [(u8, u8, u8); 8] = [
     (127, 127, 127),
 ];
 
+/// The colour of series `k` (the palette repeats).
+pub(crate) fn colour(k: usize) -> plotters::style::RGBColor {
+    let (r, g, b) = PALETTE[k % PALETTE.len()];
+    plotters::style::RGBColor(r, g, b)
+}
+
 pub(crate) const WIDTH: u32 = 960;
 pub(crate) const HEIGHT: u32 = 600;
 

@@ -1,6 +1,6 @@
 //! A metric over time, one line per configuration, with an optional mean ± sd band.
 
-use crate::{Drawable, PALETTE, PlotError};
+use crate::{Drawable, PlotError};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -90,8 +90,7 @@ impl Drawable for LineChart {
             .draw()
             .map_err(e)?;
         for (k, s) in self.series.iter().enumerate() {
-            let (r, g, b) = PALETTE[k % PALETTE.len()];
-            let colour = RGBColor(r, g, b);
+            let colour = crate::colour(k);
             if let Some(sd) = &s.sd {
                 let upper = s.points.iter().zip(sd).map(|(&(x, y), &d)| (x, y + d));
                 let lower = s
