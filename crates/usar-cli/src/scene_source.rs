@@ -86,3 +86,20 @@ pub fn load_robot(spec: &str) -> CmdResult<usar_sim::RobotSpec> {
     }
     usar_sim::RobotSpec::from_toml_file(path).input()
 }
+
+/// Reads a TOML settings file into `T`; a bad file is bad input naming the file and the line.
+pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> CmdResult<T> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+    toml::from_str(&text).map_err(|e: toml::de::Error| {
+        let line = e
+            .span()
+            .map(|r| text[..r.start.min(text.len())].matches('\n').count() + 1)
+            .unwrap_or(1);
+        bad_input(anyhow::anyhow!(
+            "{}: line {line}: {}",
+            path.display(),
+            e.message().trim().replace('\n', " ")
+        ))
+    })
+}

@@ -28,12 +28,7 @@ fn read(path: &Path) -> CmdResult<Btm> {
 
 fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
     let mut config = match &args.config {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
-            toml::from_str::<BuildConfig>(&text)
-                .map_err(|e| bad_input(anyhow::anyhow!("{}: {}", path.display(), e.message())))?
-        }
+        Some(path) => scene_source::read_toml::<BuildConfig>(path)?,
         None => BuildConfig::default(),
     };
     if let Some(minutes) = args.max_minutes {

@@ -116,19 +116,7 @@ pub fn run(args: SceneSegmentArgs) -> CmdResult {
 }
 
 fn read_params(path: &Path) -> CmdResult<SegmentationParams> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
-    let params: SegmentationParams = toml::from_str(&text).map_err(|e: toml::de::Error| {
-        let line = e
-            .span()
-            .map(|r| text[..r.start.min(text.len())].matches('\n').count() + 1)
-            .unwrap_or(1);
-        bad_input(anyhow::anyhow!(
-            "{}: line {line}: {}",
-            path.display(),
-            e.message()
-        ))
-    })?;
+    let params: SegmentationParams = scene_source::read_toml(path)?;
     params
         .check()
         .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
