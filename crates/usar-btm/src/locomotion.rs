@@ -143,13 +143,33 @@ const FREE_HEADING_STEP_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 /// the smallest p·u over the laser points `p` with |p × u| < `half_width_m` and p·u > 0, or
 /// the laser's maximum range.
 pub fn lane_length(scan: &ScanView, heading_rad: f64, half_width_m: f64) -> f64 {
-    let (s, c) = heading_rad.sin_cos();
-    scan.points
+    lane_open_m(
+        &scan.points,
+        Point2::default(),
+        heading_rad,
+        half_width_m,
+        scan.max_range_m,
+    )
+}
+
+/// How far a lane of half width `half_width_m` runs free from `centre` along `direction_rad`
+/// (world frame): the smallest distance along it of the `points` within the half width
+/// ahead of the centre, or `max_m`.
+pub fn lane_open_m(
+    points: &[Point2],
+    centre: Point2,
+    direction_rad: f64,
+    half_width_m: f64,
+    max_m: f64,
+) -> f64 {
+    let (s, c) = direction_rad.sin_cos();
+    points
         .iter()
-        .filter(|p| (p.x * s - p.y * c).abs() < half_width_m)
-        .map(|p| p.x * c + p.y * s)
+        .map(|p| (p.x - centre.x, p.y - centre.y))
+        .filter(|(dx, dy)| (dx * s - dy * c).abs() < half_width_m)
+        .map(|(dx, dy)| dx * c + dy * s)
         .filter(|&along| along > 0.0)
-        .fold(scan.max_range_m, f64::min)
+        .fold(max_m, f64::min)
 }
 
 /// Obstacle avoidance on a return route — an addition to §IV, whose behaviours all start from

@@ -60,11 +60,18 @@ impl Pose2 {
 
     /// Transforms a point given in this pose's body frame (x forward, y left) to the world frame.
     pub fn to_world(self, body: Point2) -> Point2 {
+        self.body_to_world().apply(body)
+    }
+
+    /// [`Pose2::to_world`] with the heading's sine and cosine computed once, for many points.
+    pub fn body_to_world(self) -> BodyToWorld {
         let (s, c) = self.theta.sin_cos();
-        Point2::new(
-            self.x + c * body.x - s * body.y,
-            self.y + s * body.x + c * body.y,
-        )
+        BodyToWorld {
+            x: self.x,
+            y: self.y,
+            s,
+            c,
+        }
     }
 
     /// Transforms a world point into this pose's body frame (x forward, y left).
@@ -122,6 +129,26 @@ impl Rect {
 
     pub fn contains(&self, p: Point2) -> bool {
         p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
+    }
+}
+
+/// A pose's body-to-world transform ([`Pose2::body_to_world`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyToWorld {
+    x: f64,
+    y: f64,
+    s: f64,
+    c: f64,
+}
+
+impl BodyToWorld {
+    /// The world point of `body` (x forward, y left in the pose's frame).
+    #[inline]
+    pub fn apply(&self, body: Point2) -> Point2 {
+        Point2::new(
+            self.x + self.c * body.x - self.s * body.y,
+            self.y + self.s * body.x + self.c * body.y,
+        )
     }
 }
 

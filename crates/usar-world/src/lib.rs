@@ -30,7 +30,7 @@ pub mod scene;
 
 pub use self::atomic::write_atomic;
 pub use self::error::{Result, WorldError};
-pub use self::geometry::{Point2, Pose2, Rect, normalize_angle};
+pub use self::geometry::{BodyToWorld, Point2, Pose2, Rect, normalize_angle};
 pub use self::grid::{Cell, Grid, GridGeometry, NEIGHBORS8};
 pub use self::ray::{CellRect, GridRay, RayVisitor, Visit};
 pub use self::scene::{

@@ -128,28 +128,9 @@ pub fn open_directions(
     directions
 }
 
-/// Margin on each side of the robot of the lane checked by [`lane_open_m`] for a link.
+/// Margin on each side of the robot of the lane checked by
+/// [`crate::locomotion::lane_open_m`] for a link.
 pub const LINK_LANE_MARGIN_M: f64 = 0.05;
-
-/// How far a lane of half width `half_width_m` runs free from `centre` along `direction_rad`
-/// (world frame): the smallest distance along it of the `points` within the half width
-/// ahead of the centre, or `max_m`.
-pub fn lane_open_m(
-    points: &[Point2],
-    centre: Point2,
-    direction_rad: f64,
-    half_width_m: f64,
-    max_m: f64,
-) -> f64 {
-    let (s, c) = direction_rad.sin_cos();
-    points
-        .iter()
-        .map(|p| (p.x - centre.x, p.y - centre.y))
-        .filter(|(dx, dy)| (dx * s - dy * c).abs() < half_width_m)
-        .map(|(dx, dy)| dx * c + dy * s)
-        .filter(|&along| along > 0.0)
-        .fold(max_m, f64::min)
-}
 
 /// The divergence subtype for a set of open directions: one is a dead end, two a corner
 /// (unless nearly opposite: a plain passage, `None`), three a T junction, more a crossing.

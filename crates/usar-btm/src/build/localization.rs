@@ -155,12 +155,12 @@ impl Localizer {
             }
             self.level_again_at = None;
             self.take_key(scan);
-            self.last_level = Some(self.snapshot(scan));
+            self.remember_level(scan);
             return;
         }
         if self.map.is_some() {
             self.correct_on_map(scan);
-            self.last_level = Some(self.snapshot(scan));
+            self.remember_level(scan);
             return;
         }
         let Some(key) = &self.key else {
@@ -180,7 +180,7 @@ impl Localizer {
         if moved > self.keyframe_distance_m || turned > self.keyframe_angle_rad {
             self.take_key(scan);
         }
-        self.last_level = Some(self.snapshot(scan));
+        self.remember_level(scan);
     }
 
     fn snapshot(&self, scan: &ScanView) -> KeyScan {
@@ -189,6 +189,19 @@ impl Localizer {
             beams: scan.beams.clone(),
             angle_min_rad: scan.angle_min_rad,
             angle_increment_rad: scan.angle_increment_rad,
+        }
+    }
+
+    /// Keeps `scan` as the last one on level floor, reusing the buffer of the one before.
+    fn remember_level(&mut self, scan: &ScanView) {
+        match &mut self.last_level {
+            Some(k) => {
+                k.pose = self.pose;
+                k.beams.clone_from(&scan.beams);
+                k.angle_min_rad = scan.angle_min_rad;
+                k.angle_increment_rad = scan.angle_increment_rad;
+            }
+            None => self.last_level = Some(self.snapshot(scan)),
         }
     }
 

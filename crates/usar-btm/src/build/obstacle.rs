@@ -42,10 +42,12 @@ pub fn floor_hits(spec: &TiltedLaserSpec, scan: &TiltedScan) -> Vec<FloorHit> {
 
 /// Median forward distance and height of the hits under the robot's own track
 /// (|lateral| ≤ `half_width_m`), or `None` when there are none.
-pub fn track_sample(hits: &[FloorHit], half_width_m: f64) -> Option<FloorHit> {
+pub fn track_sample(
+    hits: impl IntoIterator<Item = FloorHit>,
+    half_width_m: f64,
+) -> Option<FloorHit> {
     let mut on_track: Vec<FloorHit> = hits
-        .iter()
-        .copied()
+        .into_iter()
         .filter(|h| h.lateral_m.abs() <= half_width_m)
         .collect();
     if on_track.is_empty() {

@@ -188,8 +188,9 @@ impl ScanMap {
             let mut h = [[0.0f64; 3]; 3];
             let mut g = [0.0f64; 3];
             let mut used = 0usize;
+            let frame = t.body_to_world();
             for &b in points {
-                let q = t.to_world(b);
+                let q = frame.apply(b);
                 let Some(m) = self.partner(q) else { continue };
                 let n = m.normal;
                 let (dx, dy) = (q.x - m.at.x, q.y - m.at.y);
@@ -237,9 +238,13 @@ impl ScanMap {
                 break;
             }
         }
+        let frame = t.body_to_world();
         let close = points
             .iter()
-            .filter(|&&b| self.distance_at(t.to_world(b)).is_some_and(|d| d < CLOSE_M))
+            .filter(|&&b| {
+                self.distance_at(frame.apply(b))
+                    .is_some_and(|d| d < CLOSE_M)
+            })
             .count();
         let jump = t.position().distance(guess.position());
         let turn = normalize_angle(t.theta - guess.theta).abs();

@@ -80,13 +80,13 @@ impl Explorer<'_> {
         let half = self.spec.width_m / 2.0;
         let view = &self.view;
         let margin = self.cfg.obstacle_wall_margin_m;
-        let floor: Vec<FloorHit> = self
+        // Off-track hits are left out before the (costlier) wall check.
+        let floor = self
             .hits
             .iter()
-            .filter(|h| !seen_by_horizontal_laser(view, h, margin))
-            .copied()
-            .collect();
-        let s = track_sample(&floor, half)?;
+            .filter(|h| h.lateral_m.abs() <= half && !seen_by_horizontal_laser(view, h, margin))
+            .copied();
+        let s = track_sample(floor, half)?;
         if s.height_m.abs() <= self.cfg.obstacle_detect_height_m {
             return None;
         }

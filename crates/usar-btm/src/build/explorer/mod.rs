@@ -11,7 +11,7 @@ use self::free_space_walk::FreeSpaceWalk;
 use self::route::Route;
 use self::stall::{Remedy, StallWatch, Target};
 use super::divergence::{
-    LINK_LANE_MARGIN_M, divergence_subtype, divergence_triangles, lane_open_m, open_directions,
+    LINK_LANE_MARGIN_M, divergence_subtype, divergence_triangles, open_directions,
 };
 use super::free_space::{ExitTracker, follow_right_wall, is_free_space};
 use super::links::{LinkMeasures, LinkRecorder, LinkSample, MapWriter};
@@ -26,7 +26,7 @@ use super::{
     TrajectorySample, count_nodes,
 };
 use crate::locomotion::{
-    Gains, ModeInputs, RunMode, central_run, dead_end_turn, free_heading, lane_length,
+    Gains, ModeInputs, RunMode, central_run, dead_end_turn, free_heading, lane_length, lane_open_m,
     select_run_mode, side_distance, target_approach, wall_following,
 };
 use crate::model::{kind, subtype};

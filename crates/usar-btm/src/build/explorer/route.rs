@@ -252,27 +252,21 @@ impl Explorer<'_> {
     /// [`RESUME_WINDOW_M`] of the route (the detour may have passed some).
     fn advance_route(route: &mut Route, here: Point2) {
         let last = route.waypoints.len() - 1;
-        if route.detour_rad.is_none() {
-            while route.index < last
-                && here.distance(route.waypoints[route.index]) < PATH_LOOK_AHEAD_M
-            {
-                route.index += 1;
+        if route.detour_rad.is_some() {
+            let mut best = (here.distance(route.waypoints[route.index]), route.index);
+            let mut along = 0.0;
+            for i in route.index + 1..=last {
+                along += route.waypoints[i - 1].distance(route.waypoints[i]);
+                if along > RESUME_WINDOW_M {
+                    break;
+                }
+                let d = here.distance(route.waypoints[i]);
+                if d < best.0 {
+                    best = (d, i);
+                }
             }
-            return;
+            route.index = best.1;
         }
-        let mut best = (here.distance(route.waypoints[route.index]), route.index);
-        let mut along = 0.0;
-        for i in route.index + 1..=last {
-            along += route.waypoints[i - 1].distance(route.waypoints[i]);
-            if along > RESUME_WINDOW_M {
-                break;
-            }
-            let d = here.distance(route.waypoints[i]);
-            if d < best.0 {
-                best = (d, i);
-            }
-        }
-        route.index = best.1;
         while route.index < last && here.distance(route.waypoints[route.index]) < PATH_LOOK_AHEAD_M
         {
             route.index += 1;

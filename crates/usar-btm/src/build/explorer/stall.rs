@@ -7,7 +7,7 @@
 
 use std::f64::consts::PI;
 use usar_sim::Velocity;
-use usar_world::Pose2;
+use usar_world::{Point2, Pose2};
 
 /// A robot that moved less than this …
 const STALL_DISTANCE_M: f64 = 0.2;
@@ -48,7 +48,7 @@ pub enum Remedy {
 pub struct StallWatch {
     /// The control step, seconds (escapes are played one command per step).
     dt_s: f64,
-    anchor: Pose2,
+    anchor: Point2,
     since_s: f64,
     target: Option<Target>,
     escapes: u32,
@@ -58,7 +58,7 @@ impl StallWatch {
     pub fn new(pose: Pose2, time_s: f64, dt_s: f64) -> Self {
         Self {
             dt_s,
-            anchor: pose,
+            anchor: pose.position(),
             since_s: time_s,
             target: None,
             escapes: 0,
@@ -73,7 +73,7 @@ impl StallWatch {
             self.escapes = 0;
             self.reset(pose, time_s);
         }
-        if pose.position().distance(self.anchor.position()) > STALL_DISTANCE_M {
+        if pose.position().distance(self.anchor) > STALL_DISTANCE_M {
             self.reset(pose, time_s);
             return None;
         }
@@ -105,7 +105,7 @@ impl StallWatch {
     }
 
     fn reset(&mut self, pose: Pose2, time_s: f64) {
-        self.anchor = pose;
+        self.anchor = pose.position();
         self.since_s = time_s;
     }
 }
