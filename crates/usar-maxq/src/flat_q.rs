@@ -184,13 +184,6 @@ impl SparseFlatQ {
             .fold(0, |m, a| m | 1 << a)
     }
 
-    /// The greedy action of a state over all actions (action 0 for a state never met).
-    pub fn greedy(&self, key: u64) -> usize {
-        let all = ((1u16 << self.actions) - 1) as u8;
-        self.greedy_in(self.rows.get(&key).map(|&r| r as usize), all)
-            .0
-    }
-
     /// One learning episode; `key` maps a state to its identity.
     pub fn learn_episode<S: Clone, D: Domain<State = S>>(
         &mut self,
@@ -201,9 +194,13 @@ impl SparseFlatQ {
     ) -> Episode {
         let mut episode = Episode::default();
         let mut s = s0;
+        // The next state's key, row (if stored) and available actions, from the step before.
+        let mut carried: Option<(u64, Option<usize>, u8)> = None;
         while !domain.is_terminal(&s) && episode.steps < self.params.max_steps_per_episode {
-            let row = self.row(key(&s));
-            let available = self.available(domain, &s);
+            let (k, known, available) = carried
+                .take()
+                .unwrap_or_else(|| (key(&s), None, self.available(domain, &s)));
+            let row = known.unwrap_or_else(|| self.row(k));
             let a = if rng.random::<f64>() < self.params.epsilon.at(self.steps) {
                 let pick = rng.random_range(0..available.count_ones());
                 (0..self.actions)
@@ -217,9 +214,11 @@ impl SparseFlatQ {
             let future = if domain.is_terminal(&next) {
                 0.0
             } else {
+                let k = key(&next);
+                let row = self.rows.get(&k).map(|&r| r as usize);
                 let available = self.available(domain, &next);
-                self.greedy_in(self.rows.get(&key(&next)).map(|&r| r as usize), available)
-                    .1
+                carried = Some((k, row, available));
+                self.greedy_in(row, available).1
             };
             let alpha = self.params.alpha.at(self.steps);
             let i = row * self.actions + a;

@@ -473,18 +473,15 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 self.set_cell(i, MapCell::UnknownObstacle);
             }
         }
-        let n = self
+        let first_new = self.victims.len();
+        for h in self
             .perception
             .heat(&scene.scene, &scene.view, cell, heading)
-            .len();
-        for k in 0..n {
-            let h = self
-                .perception
-                .heat(&scene.scene, &scene.view, cell, heading)[k];
-            if !h.human_signature || self.victims.iter().any(|v| v.cell == h.cell) {
-                continue;
-            }
-            if (h.cell.0, h.cell.1) == (cell.col, cell.row) {
+        {
+            if !h.human_signature
+                || self.victims.iter().any(|v| v.cell == h.cell)
+                || h.cell == (cell.col, cell.row)
+            {
                 continue;
             }
             self.victims.push(PossibleVictim {
@@ -494,7 +491,10 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 probability: None,
                 status: Status::Pending,
             });
-            if let Some(i) = self.map.index(h.cell.0, h.cell.1) {
+        }
+        for k in first_new..self.victims.len() {
+            let (c, r) = self.victims[k].cell;
+            if let Some(i) = self.map.index(c, r) {
                 self.set_cell(i, MapCell::Victim);
             }
         }

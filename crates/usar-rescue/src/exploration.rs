@@ -223,8 +223,6 @@ pub struct Explorer {
     omega_lambda: Vec<f64>,
     /// Path distances through known passable cells from every cell the robot stood on.
     travel: TravelDistances,
-    /// The robot's cell of the last search: the row of `travel` in use.
-    source: usize,
     /// The four neighbours of each cell by [`Direction::index`], [`NONE`] outside the map.
     neighbours: Vec<[u32; 4]>,
     /// The eight neighbours of each cell in [`usar_world::NEIGHBORS8`] order, [`NONE`]
@@ -270,7 +268,6 @@ impl Explorer {
             cols: map.cols,
             omega_lambda: vec![0.0; n],
             travel: TravelDistances::new(&neighbours),
-            source: 0,
             neighbours,
             neighbours8,
             delta,
@@ -320,22 +317,6 @@ impl Explorer {
         self.omega_lambda[i]
     }
 
-    /// Path distances from cell `start` through known passable cells (breadth-first
-    /// distances, kept up to date incrementally by [`TravelDistances`]).
-    fn search(&mut self, start: usize) {
-        self.travel.update(start);
-        self.source = start;
-    }
-
-    /// Path distance of cell `k` from the robot by the last search; `u32::MAX` unreached.
-    #[inline]
-    fn distance(&self, k: usize) -> u32 {
-        match self.travel.row(self.source)[k] {
-            d if d >= UNREACHED => u32::MAX,
-            d => u32::from(d),
-        }
-    }
-
     /// Several possible victims are pending: [`Explorer::toward_victim`] then approaches one
     /// lying in the robot's own cell too (the distances it needs are kept per cell; see
     /// `partial`).
@@ -356,11 +337,15 @@ impl Explorer {
         }
         if !self.travel.is_passable(robot) {
             // (Never on a map built by the domain: the robot stands on a visited cell.)
-            self.search(robot);
-            let d = self.distance(s);
+            self.travel.update(robot);
+            let d = self.travel.row(robot)[s];
             let step = self.travel.first_step(robot, s);
-            return (d != u32::MAX)
-                .then(|| (d, step.map(|k| Direction::from_index(usize::from(k)))));
+            return (d < UNREACHED).then(|| {
+                (
+                    u32::from(d),
+                    step.map(|k| Direction::from_index(usize::from(k))),
+                )
+            });
         }
         self.travel.update(s);
         let row = self.travel.row(s);
@@ -433,7 +418,7 @@ impl Explorer {
             self.partial = true;
             return Guidance { heading, ..g };
         }
-        self.search(robot);
+        self.travel.update(robot);
         // One pass over the cells of interest: eq. 7 per region and the best target per
         // region: the nearest by path, then the largest ω·λ·δ, then the lowest index.
         let mut utility = [0.0; 4];
@@ -452,8 +437,7 @@ impl Explorer {
                 let Some(region) = region_of(dx, dy) else {
                     continue;
                 };
-                // As `target_distance`, inline: through the nearest stand cell when the cell
-                // is unclassified.
+                // Through the nearest stand cell when the cell is unclassified.
                 let d = if map.cells[i].is_unclassified() {
                     self.neighbours[i]
                         .iter()

@@ -66,6 +66,16 @@ pub const TAG: NodeId = 10;
 pub const REJECT: NodeId = 11;
 pub const EXIT: NodeId = 12;
 
+/// The primitives' preconditions, for the hierarchy and the flat learner alike: Exit only
+/// when nothing is left to explore, B only into a cell the map shows free.
+pub fn action_available(a: usize, s: &RescueState) -> bool {
+    match a {
+        action::EXIT => !s.targets_remain(),
+        action::BACKWARD => s.back_known_free(),
+        _ => true,
+    }
+}
+
 /// Primitive actions of the domain (indices of `Domain::step`).
 pub mod action {
     pub const FORWARD: usize = 0;
@@ -181,8 +191,8 @@ impl Hierarchy<RescueState> for RescueHierarchy {
 
     fn available(&self, node: NodeId, s: &RescueState) -> bool {
         match node {
-            EXIT => !s.targets_remain(),
-            BACKWARD => s.back_known_free(),
+            EXIT => action_available(action::EXIT, s),
+            BACKWARD => action_available(action::BACKWARD, s),
             _ => true,
         }
     }

@@ -153,14 +153,9 @@ impl Domain for FlatDomain<'_, '_> {
     fn is_terminal(&self, s: &RescueState) -> bool {
         s.done()
     }
-    /// The same preconditions as the hierarchy's: Exit only when nothing is left to explore,
-    /// B only into a cell the map shows free.
+    /// The same preconditions as the hierarchy's.
     fn available(&self, s: &RescueState, a: usize) -> bool {
-        match FLAT_ACTIONS[a] {
-            action::EXIT => !s.targets_remain(),
-            action::BACKWARD => s.back_known_free(),
-            _ => true,
-        }
+        crate::hierarchy::action_available(FLAT_ACTIONS[a], s)
     }
 }
 
