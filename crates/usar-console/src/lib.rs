@@ -41,5 +41,5 @@ mod team_hook;
 pub use self::config::{ConsoleConfig, ConsoleError, MissionConfig};
 pub use self::server::{RunningConsole, serve_blocking, start};
 pub use self::snapshot::{
-    BtmLinkView, BtmNodeView, Frame, HandOffView, MapView, RobotView, VictimView,
+    BtmLinkView, BtmNodeView, Frame, HandOffKind, HandOffView, MapView, RobotView, VictimView,
 };

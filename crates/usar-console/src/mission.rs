@@ -19,8 +19,7 @@ use crate::scene_setup::{default_scene, starting_at, with_team_starts, with_zone
 use crate::snapshot::{BtmLinkView, BtmNodeView, HandOffView};
 use crate::team_hook::{ConsoleHook, strategy};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::AtomicU64;
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -90,8 +89,8 @@ pub struct Shared {
     pub steps: AtomicU64,
     pub(crate) frame_tx: watch::Sender<Arc<str>>,
     pub(crate) map_tx: watch::Sender<Arc<str>>,
-    operator_tx: Mutex<mpsc::Sender<OperatorAnswer>>,
-    commands_tx: Mutex<mpsc::Sender<Command>>,
+    operator_tx: mpsc::Sender<OperatorAnswer>,
+    commands_tx: mpsc::Sender<Command>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -112,7 +111,7 @@ impl Shared {
     }
 
     pub(crate) fn answer(&self, answer: OperatorAnswer) -> Result<(), String> {
-        lock(&self.operator_tx)
+        self.operator_tx
             .send(answer)
             .map_err(|_| "the MAXQ robot is no longer running".to_string())
     }
@@ -131,7 +130,7 @@ impl Shared {
     /// Sends a validated control message to the mission and waits for its result.
     pub async fn control(&self, message: ClientMessage) -> Result<(), String> {
         let (tx, rx) = oneshot::channel();
-        lock(&self.commands_tx)
+        self.commands_tx
             .send((message, tx))
             .map_err(|_| "the mission has stopped".to_string())?;
         match tokio::time::timeout(Duration::from_secs(5), rx).await {
@@ -154,7 +153,6 @@ impl Shared {
 pub struct Mission {
     pub shared: Arc<Shared>,
     threads: Vec<JoinHandle<()>>,
-    btm_path: PathBuf,
 }
 
 impl Mission {
@@ -164,7 +162,6 @@ impl Mission {
         for t in self.threads.drain(..) {
             let _ = t.join();
         }
-        let _ = std::fs::remove_file(&self.btm_path);
     }
 }
 
@@ -177,35 +174,24 @@ impl Drop for Mission {
 /// Panic payload that ends the BTM build when the mission stops (see [`run_btm`]).
 struct StopBuild;
 
-/// Builds the BTM beside the mission, paced by the clock; the overlay is read back from the
-/// store at most twice per wall-clock second. The first start pose the crawler fits on is
-/// used. When the mission stops, the build is ended by unwinding out of its progress callback
-/// (the builder has no other way to be interrupted).
-fn run_btm(shared: Arc<Shared>, scene: Scene, seed: u64, path: PathBuf) {
+/// Builds the BTM beside the mission, paced by the clock; the overlay is taken from the map
+/// being built at most twice per wall-clock second. The first start pose the crawler fits on
+/// is used. When the mission stops, the build is ended by unwinding out of its progress
+/// callback (the builder has no other way to be interrupted).
+fn run_btm(shared: Arc<Shared>, scene: Scene, seed: u64) {
     use usar_btm::build::{BuildConfig, BuildError, build_btm_observed};
     let config = BuildConfig::default();
     for k in 0..scene.start_poses.len() {
-        let _ = std::fs::remove_file(&path);
-        let store = match usar_btm::BtmStore::create(&path) {
-            Ok(s) => s,
-            Err(e) => {
-                shared.lock_btm().status = format!("BTM store: {e}");
-                return;
-            }
-        };
-        let reader = usar_btm::BtmStore::open(&path).ok();
-        let mut last_read = Instant::now();
+        let mut last_overlay = Instant::now();
         let clock_shared = shared.clone();
-        let mut on_progress = |t: f64, pose: usar_world::Pose2| {
+        let mut on_progress = |t: f64, pose: usar_world::Pose2, btm: &usar_btm::Btm| {
             if !clock_shared.clock.wait_until(t) {
                 std::panic::resume_unwind(Box::new(StopBuild));
             }
             clock_shared.lock_btm().crawler = Some([pose.x, pose.y, pose.theta]);
-            if last_read.elapsed() >= Duration::from_millis(500)
-                && let Some(Ok(btm)) = reader.as_ref().map(|r| r.load())
-            {
-                last_read = Instant::now();
-                set_overlay(&clock_shared, &btm, "building");
+            if last_overlay.elapsed() >= Duration::from_millis(500) {
+                last_overlay = Instant::now();
+                set_overlay(&clock_shared, btm, "building");
             }
         };
         let scene_k = Arc::new(starting_at(&scene, k));
@@ -215,7 +201,7 @@ fn run_btm(shared: Arc<Shared>, scene: Scene, seed: u64, path: PathBuf) {
                 usar_sim::RobotSpec::crawler(),
                 &config,
                 seed,
-                Some(&store),
+                None,
                 &mut on_progress,
             )
         }));
@@ -328,8 +314,8 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
         steps: AtomicU64::new(0),
         frame_tx,
         map_tx,
-        operator_tx: Mutex::new(operator_tx),
-        commands_tx: Mutex::new(commands_tx),
+        operator_tx,
+        commands_tx,
     });
     let mut threads = Vec::new();
     let domain = DomainConfig {
@@ -344,18 +330,10 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
             run_rescue_robot(shared, rescue_scene, learner, domain, operator_rx, seed)
         }));
     }
-    static NEXT: AtomicU64 = AtomicU64::new(0);
-    let btm_path = std::env::temp_dir().join(format!(
-        "usar-console-btm-{}-{}.sqlite",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::SeqCst)
-    ));
     if config.btm {
         let shared = shared.clone();
-        let (scene, seed, path) = (scene.clone(), config.seed, btm_path.clone());
-        threads.push(std::thread::spawn(move || {
-            run_btm(shared, scene, seed, path)
-        }));
+        let (scene, seed) = (scene.clone(), config.seed);
+        threads.push(std::thread::spawn(move || run_btm(shared, scene, seed)));
     } else {
         shared.lock_btm().status = "off".into();
     }
@@ -374,9 +352,5 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
             hook.after_mission(&finish);
         }));
     }
-    Ok(Mission {
-        shared,
-        threads,
-        btm_path,
-    })
+    Ok(Mission { shared, threads })
 }

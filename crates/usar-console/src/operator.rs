@@ -11,7 +11,7 @@
 
 use crate::images;
 use crate::mission::{OperatorAnswer, Shared};
-use crate::snapshot::HandOffView;
+use crate::snapshot::{HandOffKind, HandOffView};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
@@ -20,7 +20,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::Duration;
 use usar_maxq::{Domain, MaxqQ, NodeId, Schedule};
 use usar_rescue::cell_map::MapCell;
-use usar_rescue::exploration::{Direction, ExplorationWeights};
+use usar_rescue::exploration::ExplorationWeights;
 use usar_rescue::hierarchy::{RescueHierarchy, action};
 use usar_rescue::operator::{HandOff, NavigationRequest, VictimDecision, VictimRequest};
 use usar_rescue::{DomainConfig, RescueDomain, RescueScene, RescueState, VictimStatus};
@@ -115,7 +115,7 @@ impl HandOff for ConsoleOperator {
             HandOffView {
                 id: 0,
                 robot: 0,
-                kind: "victim".into(),
+                kind: HandOffKind::Victim,
                 x: target.x,
                 y: target.y,
                 reason: None,
@@ -143,17 +143,21 @@ impl HandOff for ConsoleOperator {
     }
 
     fn drive(&mut self, request: &NavigationRequest) -> CellAction {
-        let suggested = request.suggested.map(|d| heading_name(d).to_string());
+        let suggested = request.suggested;
         let p = self
             .scene
             .view
             .cell_center(Cell::new(request.cell.0, request.cell.1));
         let posted = {
             let mut rescue = self.shared.lock_rescue();
-            match rescue.handoff.as_mut().filter(|h| h.kind == "stuck") {
+            match rescue
+                .handoff
+                .as_mut()
+                .filter(|h| h.kind == HandOffKind::Stuck)
+            {
                 Some(h) => {
                     // The same hand-off, updated as the person drives.
-                    (h.x, h.y, h.suggested) = (p.x, p.y, suggested.clone());
+                    (h.x, h.y, h.suggested) = (p.x, p.y, suggested);
                     h.reason = Some(self.stuck_reason.into());
                     true
                 }
@@ -166,7 +170,7 @@ impl HandOff for ConsoleOperator {
                 HandOffView {
                     id: 0,
                     robot: 0,
-                    kind: "stuck".into(),
+                    kind: HandOffKind::Stuck,
                     x: p.x,
                     y: p.y,
                     reason: Some(self.stuck_reason.into()),
@@ -236,7 +240,11 @@ impl PacedDomain<'_> {
         ];
         r.task = task.into();
         r.tags = self.tags_before + self.inner.stats.victims_found + self.inner.stats.false_tags;
-        if r.handoff.is_some_and_kind("stuck") && !state.stuck() {
+        if r.handoff
+            .as_ref()
+            .is_some_and(|h| h.kind == HandOffKind::Stuck)
+            && !state.stuck()
+        {
             r.handoff = None;
             r.mode = "autonomous";
         }
@@ -261,26 +269,6 @@ impl PacedDomain<'_> {
         if changed {
             r.cell_map_version += 1;
         }
-    }
-}
-
-trait KindCheck {
-    fn is_some_and_kind(&self, kind: &str) -> bool;
-}
-
-impl KindCheck for Option<HandOffView> {
-    fn is_some_and_kind(&self, kind: &str) -> bool {
-        self.as_ref().is_some_and(|h| h.kind == kind)
-    }
-}
-
-/// A heading's name as the page shows it.
-fn heading_name(d: Direction) -> &'static str {
-    match d {
-        Direction::East => "east",
-        Direction::North => "north",
-        Direction::West => "west",
-        Direction::South => "south",
     }
 }
 
@@ -395,9 +383,8 @@ pub(crate) fn run_rescue_robot(
         }
         if explored_all {
             shared.lock_rescue().task = "exited: nothing left to explore".into();
-            while !shared.clock.is_stopping() {
-                std::thread::sleep(Duration::from_millis(100));
-            }
+            // Nothing left for this robot: wait for the mission to stop.
+            shared.clock.wait_until(f64::INFINITY);
             return;
         }
         // A pause of two simulated seconds before the next episode.

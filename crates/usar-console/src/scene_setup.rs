@@ -2,8 +2,7 @@
 //! layer (semantic labels); a scene without one gets four zones, its quadrants, labelled by
 //! their floor area as the generators label rooms.
 
-use std::sync::Arc;
-use usar_sim::Simulation;
+use usar_sim::{compute_blocked, footprint_cells};
 use usar_team::TeamConfig;
 use usar_world::generate::{RubbleParams, generate_rubble};
 use usar_world::{Grid, Pose2, Room, RoomId, RoomLabel, RoomSizeThresholds, Scene};
@@ -81,10 +80,15 @@ pub fn label_code(label: Option<RoomLabel>) -> u8 {
 /// robot's, the first, last), then, if the team is larger, free poses on a 1 m lattice nearest
 /// to the first start.
 pub fn with_team_starts(scene: &Scene, config: &TeamConfig) -> Scene {
-    let shared = Arc::new(scene.clone());
+    // Free for the robot: every cell under its footprint inside the grid and not blocked for
+    // it (the test a simulation makes when a robot is added, with no other robot about).
+    let spec = &config.robot;
+    let blocked = compute_blocked(scene, spec);
+    let g = *scene.geometry();
     let fits = |pose: Pose2| {
-        let mut sim = Simulation::new(shared.clone(), config.sim.clone(), 0);
-        sim.add_robot(config.robot.clone(), pose).is_ok()
+        footprint_cells(&g, pose, spec.length_m, spec.width_m, |c| {
+            blocked.get(c).is_some_and(|&b| !b)
+        })
     };
     let mut poses: Vec<Pose2> = scene
         .start_poses
@@ -95,7 +99,6 @@ pub fn with_team_starts(scene: &Scene, config: &TeamConfig) -> Scene {
         .filter(|&p| fits(p))
         .collect();
     if poses.len() < config.robots {
-        let g = scene.geometry();
         let (w, h) = g.extent_m();
         let anchor = scene.start_poses.first().map_or(g.origin, |p| p.position());
         let mut lattice = Vec::new();

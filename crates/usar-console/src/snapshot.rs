@@ -35,13 +35,22 @@ pub struct VictimView {
     pub probability: Option<f64>,
 }
 
+/// What a hand-off asks of the operator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum HandOffKind {
+    /// A possible victim: Confirm / Reject.
+    Victim,
+    /// A stuck robot: drive it until it gets going again.
+    Stuck,
+}
+
 /// A hand-off waiting for the operator.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HandOffView {
     pub id: u64,
     pub robot: usize,
-    /// `victim` (Confirm / Reject) or `stuck` (drive until the robot gets going again).
-    pub kind: String,
+    pub kind: HandOffKind,
     pub x: f64,
     pub y: f64,
     /// Why a robot is stuck: `slipping` (its commands do not take effect; control returns when
@@ -50,7 +59,7 @@ pub struct HandOffView {
     pub reason: Option<String>,
     /// Where the stuck robot's exploration would go next (`east`, `north`, `west`, `south`),
     /// if anywhere: what the robot would do, for the person to judge.
-    pub suggested: Option<String>,
+    pub suggested: Option<usar_rescue::exploration::Direction>,
     pub probability: Option<f64>,
     pub size_m2: Option<f64>,
     /// URLs of the sensor images (thermal region, depth profile).

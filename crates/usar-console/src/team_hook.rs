@@ -6,17 +6,17 @@
 use crate::mission::{Command, OperatorAnswer, Shared};
 use crate::protocol::{ClientMessage, DriveCommand};
 use crate::scene_setup::label_code;
-use crate::snapshot::{Frame, MapView, RobotView, VictimView};
+use crate::snapshot::{Frame, HandOffKind, MapView, RobotView, VictimView};
 use base64::Engine;
 use std::sync::Arc;
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 use usar_map::CellClass;
-use usar_map::planning::{Connectivity, GridAStar, NavGrid};
+use usar_map::planning::{Connectivity, GridAStar};
 use usar_sim::{CellAction, Velocity};
 use usar_team::driver::{PathFollower, Recovery, RecoveryStep};
 use usar_team::{MissionHook, Strategy, TeamMission};
-use usar_world::Scene;
+use usar_world::{GridGeometry, Scene};
 
 /// How often viewers get a frame (20 per second).
 pub const FRAME_PERIOD: Duration = Duration::from_millis(50);
@@ -43,6 +43,8 @@ enum Override {
     Path {
         follower: PathFollower,
         recovery: Option<Recovery>,
+        /// The velocity computed at the last step.
+        command: Velocity,
     },
 }
 
@@ -85,14 +87,19 @@ impl Pacer {
     }
 }
 
+/// The team's merged grid, encoded for map messages (see [`MapView`]).
+struct TeamGrid {
+    geometry: GridGeometry,
+    cells: String,
+    labels: String,
+}
+
 /// See the [module documentation](self).
 pub struct ConsoleHook {
     shared: Arc<Shared>,
     commands: Receiver<Command>,
     pacer: Pacer,
     overrides: Vec<Option<Override>>,
-    /// The velocity a path override computed at the last step.
-    path_commands: Vec<Option<Velocity>>,
     planner: GridAStar,
     last_frame: Instant,
     last_map: Instant,
@@ -103,7 +110,11 @@ pub struct ConsoleHook {
     labels: Vec<u8>,
     explored: Vec<[f64; 2]>,
     team: Vec<RobotView>,
-    team_map: Option<(MapView, f64, f64)>,
+    /// The team's merged grid as last encoded for a map message.
+    team_grid: Option<TeamGrid>,
+    /// Known area and coverage of the team's map, as last observed.
+    explored_m2: f64,
+    coverage: f64,
     hypothesis: String,
     finish: Option<String>,
     sim_s: f64,
@@ -129,7 +140,6 @@ impl ConsoleHook {
                 window: Default::default(),
             },
             overrides: (0..robots).map(|_| None).collect(),
-            path_commands: vec![None; robots],
             planner: GridAStar::new(),
             last_frame: long_ago,
             last_map: long_ago,
@@ -139,7 +149,9 @@ impl ConsoleHook {
             labels: Vec::new(),
             explored: Vec::new(),
             team: Vec::new(),
-            team_map: None,
+            team_grid: None,
+            explored_m2: 0.0,
+            coverage: 0.0,
             hypothesis: hypothesis.into(),
             finish: None,
             sim_s: 0.0,
@@ -182,7 +194,7 @@ impl ConsoleHook {
                     .lock_rescue()
                     .handoff
                     .as_ref()
-                    .is_some_and(|h| h.kind == "victim" && h.id == handoff);
+                    .is_some_and(|h| h.kind == HandOffKind::Victim && h.id == handoff);
                 if !waiting {
                     return Err(format!("no victim hand-off {handoff} is waiting"));
                 }
@@ -194,7 +206,7 @@ impl ConsoleHook {
                     .lock_rescue()
                     .handoff
                     .as_ref()
-                    .is_some_and(|h| h.kind == "stuck");
+                    .is_some_and(|h| h.kind == HandOffKind::Stuck);
                 if !stuck {
                     return Err(
                         "robot 0 (MAXQ) is autonomous: it hands navigation over when it is stuck"
@@ -242,6 +254,7 @@ impl ConsoleHook {
                 self.overrides[k] = Some(Override::Path {
                     follower: path,
                     recovery: None,
+                    command: Velocity::default(),
                 });
                 Ok(())
             }
@@ -291,16 +304,14 @@ impl ConsoleHook {
         goal: usar_world::Point2,
     ) -> Result<PathFollower, String> {
         let base = mission.base_station();
-        let merged = &base.merged;
-        let g = *merged.geometry();
-        let nav = &base.navigable_tight;
-        let grid = NavGrid::from_fn(g, |c| !nav.is_navigable(merged, g.index(c)));
+        let g = *base.merged.geometry();
         let from = g.world_to_cell(mission.simulation().robots()[k].pose.position());
         let to = g.world_to_cell(goal);
         if !g.contains(to) {
             return Err(format!("({:.2}, {:.2}) is outside the map", goal.x, goal.y));
         }
-        let mut grid = grid;
+        // The base station's grid of the tight radius, with the robot's own cell open.
+        let mut grid = base.nav_grids[1].clone();
         grid.set_passable(from, true);
         let path = self
             .planner
@@ -327,8 +338,8 @@ impl ConsoleHook {
         }
     }
 
-    /// Team robots, map and explored area from the mission.
-    fn observe(&mut self, mission: &TeamMission, publish_map: bool) {
+    /// Team robots and explored area from the mission.
+    fn observe(&mut self, mission: &TeamMission) {
         let sim = mission.simulation();
         self.team = sim
             .robots()
@@ -361,18 +372,21 @@ impl ConsoleHook {
             })
             .collect();
         let base = mission.base_station();
-        let area = base.merged.known_area_m2();
+        self.explored_m2 = base.merged.known_area_m2();
+        self.coverage = base.coverage.coverage();
         if self
             .explored
             .last()
             .is_none_or(|s| self.sim_s - s[0] >= 1.0)
         {
-            self.explored.push([self.sim_s, area]);
+            self.explored.push([self.sim_s, self.explored_m2]);
         }
-        if !publish_map {
-            return;
-        }
-        let merged = &base.merged;
+    }
+
+    /// Encodes the team's merged grid and its room labels for the next map message.
+    fn encode_team_grid(&mut self, mission: &TeamMission) {
+        let sim = mission.simulation();
+        let merged = &mission.base_station().merged;
         let g = *merged.geometry();
         if self.labels.len() != g.len() {
             let scene: &Scene = sim.scene();
@@ -400,60 +414,56 @@ impl ConsoleHook {
             });
         }
         let b64 = base64::engine::general_purpose::STANDARD;
-        self.team_map = Some((
-            MapView {
+        self.team_grid = Some(TeamGrid {
+            geometry: g,
+            cells: b64.encode(&cells),
+            labels: b64.encode(&labels),
+        });
+    }
+
+    /// What the maps depend on: explored-area samples, the MAXQ robot's cell map, the BTM.
+    fn map_state(&self) -> (usize, u64, usize) {
+        let cell_map_version = self.shared.lock_rescue().cell_map_version;
+        let btm = self.shared.lock_btm();
+        (
+            self.explored.len(),
+            cell_map_version,
+            btm.nodes.len() + btm.links.len(),
+        )
+    }
+
+    /// Publishes a frame now, and the maps when `map_state` is given (they changed).
+    fn publish(&mut self, measured_speed: f64, map_state: Option<(usize, u64, usize)>) {
+        self.seq += 1;
+        let rescue = self.shared.lock_rescue();
+        let btm = self.shared.lock_btm();
+        let mut maps = None;
+        if let Some(state) = map_state
+            && let Some(grid) = &self.team_grid
+        {
+            self.map_state = state;
+            self.last_map = Instant::now();
+            self.map_seq += 1;
+            let b64 = base64::engine::general_purpose::STANDARD;
+            let g = grid.geometry;
+            maps = Some(MapView {
                 kind: "map".into(),
-                seq: 0,
+                seq: self.map_seq,
                 width: g.width,
                 height: g.height,
                 resolution_m: g.resolution_m,
                 origin: [g.origin.x, g.origin.y],
-                cells: b64.encode(&cells),
-                labels: b64.encode(&labels),
-                cell_cols: 0,
-                cell_rows: 0,
-                cell_size_m: 0.0,
-                cell_origin: [0.0, 0.0],
-                cell_map: String::new(),
-                btm_nodes: Vec::new(),
-                btm_links: Vec::new(),
-                explored: Vec::new(),
-            },
-            area,
-            base.coverage.coverage(),
-        ));
-    }
-
-    /// Publishes a frame now, and the maps if they changed.
-    fn publish(&mut self, measured_speed: f64) {
-        self.seq += 1;
-        let rescue = self.shared.lock_rescue();
-        let btm = self.shared.lock_btm();
-        let map_state = (
-            self.explored.len(),
-            rescue.cell_map_version,
-            btm.nodes.len() + btm.links.len(),
-        );
-        let mut maps = None;
-        if map_state != self.map_state
-            && self.last_map.elapsed() >= MAP_PERIOD
-            && let Some((team_map, _, _)) = &self.team_map
-        {
-            self.map_state = map_state;
-            self.last_map = Instant::now();
-            self.map_seq += 1;
-            let b64 = base64::engine::general_purpose::STANDARD;
-            let mut m = team_map.clone();
-            m.seq = self.map_seq;
-            m.cell_cols = rescue.cell_cols;
-            m.cell_rows = rescue.cell_rows;
-            m.cell_size_m = rescue.cell_size_m;
-            m.cell_origin = rescue.cell_origin;
-            m.cell_map = b64.encode(&rescue.cell_map);
-            m.btm_nodes = btm.nodes.clone();
-            m.btm_links = btm.links.clone();
-            m.explored = self.explored.clone();
-            maps = Some(m);
+                cells: grid.cells.clone(),
+                labels: grid.labels.clone(),
+                cell_cols: rescue.cell_cols,
+                cell_rows: rescue.cell_rows,
+                cell_size_m: rescue.cell_size_m,
+                cell_origin: rescue.cell_origin,
+                cell_map: b64.encode(&rescue.cell_map),
+                btm_nodes: btm.nodes.clone(),
+                btm_links: btm.links.clone(),
+                explored: self.explored.clone(),
+            });
         }
         let mut robots = Vec::with_capacity(self.team.len() + 2);
         robots.push(RobotView {
@@ -507,10 +517,6 @@ impl ConsoleHook {
                 }
             })
             .collect();
-        let (explored_m2, coverage) = self
-            .team_map
-            .as_ref()
-            .map_or((0.0, 0.0), |(_, a, c)| (*a, *c));
         let frame = Frame {
             kind: "frame".into(),
             seq: self.seq,
@@ -521,8 +527,8 @@ impl ConsoleHook {
             robots,
             victims,
             handoffs: rescue.handoff.iter().cloned().collect(),
-            explored_m2,
-            coverage,
+            explored_m2: self.explored_m2,
+            coverage: self.coverage,
             weights: rescue.weights,
             hypothesis: self.hypothesis.clone(),
             btm_nodes: btm.nodes.len(),
@@ -554,12 +560,17 @@ impl ConsoleHook {
                 return false;
             }
             if self.last_frame.elapsed() >= FRAME_PERIOD {
-                let map_due = self.last_map.elapsed() >= MAP_PERIOD;
                 if let Some(m) = mission.as_deref() {
-                    self.observe(m, map_due);
+                    self.observe(m);
+                }
+                // The team's grid is encoded only when a map message goes out.
+                let state = self.map_state();
+                let map_due = state != self.map_state && self.last_map.elapsed() >= MAP_PERIOD;
+                if map_due && let Some(m) = mission.as_deref() {
+                    self.encode_team_grid(m);
                 }
                 let measured = self.pacer.measured(self.sim_s);
-                self.publish(measured);
+                self.publish(measured, map_due.then_some(state));
             }
             if self.pacer.paused {
                 std::thread::sleep(Duration::from_millis(10));
@@ -603,7 +614,7 @@ impl MissionHook for ConsoleHook {
                 self.overrides[robot] = None;
                 planned
             }
-            Some(Override::Path { .. }) => self.path_commands[robot].unwrap_or_default(),
+            Some(Override::Path { command, .. }) => *command,
             None => planned,
         }
     }
@@ -611,21 +622,22 @@ impl MissionHook for ConsoleHook {
     fn after_step(&mut self, mission: &mut TeamMission) -> bool {
         self.sim_s = mission.simulation().time_s();
         for k in 0..self.overrides.len() {
-            self.path_commands[k] = None;
-            if let Some(Override::Path { follower, recovery }) = &mut self.overrides[k] {
+            if let Some(Override::Path {
+                follower,
+                recovery,
+                command,
+            }) = &mut self.overrides[k]
+            {
                 let r = &mission.simulation().robots()[k];
                 if follower.is_done(r.pose) {
                     self.overrides[k] = None;
                     continue;
                 }
                 // After a bump the team's own escapes, then the path again.
-                self.path_commands[k] =
-                    Some(match Recovery::step(recovery, self.sim_s, r.in_contact()) {
-                        RecoveryStep::Escape(v) => v,
-                        RecoveryStep::Ended | RecoveryStep::Free => {
-                            follower.command(r.pose, &r.spec)
-                        }
-                    });
+                *command = match Recovery::step(recovery, self.sim_s, r.in_contact()) {
+                    RecoveryStep::Escape(v) => v,
+                    RecoveryStep::Ended | RecoveryStep::Free => follower.command(r.pose, &r.spec),
+                };
             }
         }
         self.shared.clock.advance_to(self.sim_s);

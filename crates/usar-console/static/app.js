@@ -57,6 +57,7 @@ function setMap(m) {
   state.cells = decode(m.cells);
   state.labels = decode(m.labels);
   state.cellMap = decode(m.cell_map);
+  drawLayers();
   drawChart();
 }
 
@@ -161,12 +162,19 @@ function renderHandoffs(f) {
   });
 }
 
-function drawMap() {
-  const c = $("map"), g = c.getContext("2d"), t = transform(), m = state.map, f = state.frame;
+// The map layers (team grid and labels, MAXQ cell map, BTM) change only with a map message:
+// they are drawn once into this canvas, and every frame copies it under victims and robots.
+const layers = document.createElement("canvas");
+
+function drawLayers() {
+  const c = $("map"), t = transform(), m = state.map;
+  layers.width = c.width;
+  layers.height = c.height;
+  const g = layers.getContext("2d");
   g.fillStyle = "#0c0d10";
   g.fillRect(0, 0, c.width, c.height);
-  if (!t || !f) return;
-  const px = m.resolution_m * t.scale;
+  if (!t) return;
+  const px = m.resolution_m * t.scale, showLabels = $("layer-labels").checked;
   for (let r = 0; r < m.height; r++) {
     for (let q = 0; q < m.width; q++) {
       const i = r * m.width + q, v = state.cells[i];
@@ -174,7 +182,7 @@ function drawMap() {
       const [x, y] = t.toPx(m.origin[0] + q * m.resolution_m, m.origin[1] + (r + 1) * m.resolution_m);
       g.fillStyle = v === 1 ? "#8a8f99" : "#101010";
       g.fillRect(x, y, px + 0.5, px + 0.5);
-      if ($("layer-labels").checked && v === 1 && state.labels[i]) {
+      if (showLabels && v === 1 && state.labels[i]) {
         g.fillStyle = LABEL_TINT[state.labels[i]];
         g.fillRect(x, y, px + 0.5, px + 0.5);
       }
@@ -212,6 +220,13 @@ function drawMap() {
       g.beginPath(); g.arc(x, y, 3.5, 0, 2 * Math.PI); g.fill();
     }
   }
+}
+
+function drawMap() {
+  const c = $("map"), g = c.getContext("2d"), t = transform(), f = state.frame;
+  if (layers.width !== c.width || layers.height !== c.height) drawLayers();
+  g.drawImage(layers, 0, 0);
+  if (!t || !f) return;
   for (const v of f.victims) {
     const [x, y] = t.toPx(v.x, v.y);
     g.fillStyle = v.status === "tagged" ? "#3f3" : v.status === "dismissed" ? "#777" : "#fd3";
@@ -286,7 +301,7 @@ $("map").onclick = (e) => {
   const [x, y] = t.toWorld((e.clientX - rect.left) * c.width / rect.width, (e.clientY - rect.top) * c.height / rect.height);
   send({ type: "send_to", robot: state.selected, x, y });
 };
-["layer-labels", "layer-cells", "layer-btm"].forEach((id) => { $(id).onchange = drawMap; });
+["layer-labels", "layer-cells", "layer-btm"].forEach((id) => { $(id).onchange = () => { drawLayers(); drawMap(); }; });
 
 const KEYS = { ArrowUp: "forward", w: "forward", ArrowDown: "backward", s: "backward", ArrowLeft: "left", a: "left", ArrowRight: "right", d: "right" };
 const held = new Set();

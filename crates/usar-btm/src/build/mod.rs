@@ -127,19 +127,19 @@ pub fn build_btm(
     seed: u64,
     store: Option<&BtmStore>,
 ) -> Result<BuildOutcome, BuildError> {
-    build_btm_observed(scene, robot, config, seed, store, &mut |_, _| {})
+    build_btm_observed(scene, robot, config, seed, store, &mut |_, _, _| {})
 }
 
-/// [`build_btm`], calling `on_progress` with the simulated time (seconds) and the robot's pose
-/// four times per simulated second, e.g. for a progress bar up to [`BuildConfig::max_time_s`]
-/// or to show the robot live.
+/// [`build_btm`], calling `on_progress` with the simulated time (seconds), the robot's pose and
+/// the map built so far four times per simulated second, e.g. for a progress bar up to
+/// [`BuildConfig::max_time_s`] or to show the robot and its map live.
 pub fn build_btm_observed(
     scene: Arc<Scene>,
     robot: RobotSpec,
     config: &BuildConfig,
     seed: u64,
     store: Option<&BtmStore>,
-    on_progress: &mut dyn FnMut(f64, Pose2),
+    on_progress: &mut dyn FnMut(f64, Pose2, &Btm),
 ) -> Result<BuildOutcome, BuildError> {
     config
         .validate()

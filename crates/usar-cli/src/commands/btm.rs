@@ -73,7 +73,7 @@ fn build(args: BtmBuildArgs) -> CmdResult {
         &config,
         args.seed,
         Some(&store),
-        &mut |t, _| bar.set_position(t as u64),
+        &mut |t, _, _| bar.set_position(t as u64),
     );
     bar.finish_and_clear();
     drop(store);

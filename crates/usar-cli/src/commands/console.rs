@@ -7,7 +7,7 @@ use crate::scene_source;
 use clap::{Args, Subcommand};
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use usar_console::{ConsoleConfig, ConsoleError, MissionConfig};
+use usar_console::{ConsoleConfig, MissionConfig};
 
 /// Start a live simulated mission and serve the operator console to a browser: a MAXQ
 /// semi-autonomous robot that hands off to you, a team exploring with S-MCDM, a BTM being built.
@@ -72,15 +72,9 @@ pub struct ConsoleBenchArgs {
     pub json: bool,
 }
 
-/// Every way a console fails to start is about what it was given (mission file, scene, policy,
-/// address, token): exit code 2.
-fn console_failure(e: ConsoleError) -> crate::failure::Failure {
-    bad_input(e)
-}
-
 fn mission_config(path: Option<&PathBuf>) -> CmdResult<MissionConfig> {
     match path {
-        Some(p) => MissionConfig::from_file(p).map_err(console_failure),
+        Some(p) => MissionConfig::from_file(p).map_err(bad_input),
         None => Ok(MissionConfig::default()),
     }
 }
@@ -106,7 +100,7 @@ fn serve(args: ConsoleServeArgs) -> CmdResult {
     if let Some(spec) = &args.scene {
         mission.scene = Some(scene_source::load(spec, mission.seed, &args.image)?);
     }
-    mission.validate().map_err(console_failure)?;
+    mission.validate().map_err(bad_input)?;
     let bind: SocketAddr = args.bind.parse().map_err(|e| {
         bad_input(anyhow::anyhow!(
             "--bind {}: {e}; expected ADDRESS:PORT, e.g. 127.0.0.1:8080",
@@ -123,20 +117,20 @@ fn serve(args: ConsoleServeArgs) -> CmdResult {
         println!("access token: {}", console.token);
         println!("(Ctrl-C to stop)");
     })
-    .map_err(console_failure)
+    .map_err(bad_input)
 }
 
 fn bench(args: ConsoleBenchArgs) -> CmdResult {
     let mut mission = mission_config(args.mission.as_ref())?;
     mission.speed = args.speed;
-    mission.validate().map_err(console_failure)?;
+    mission.validate().map_err(bad_input)?;
     if args.viewers == 0 || !(args.seconds.is_finite() && args.seconds >= 1.0) {
         return Err(bad_input(anyhow::anyhow!(
             "--viewers must be at least 1 and --seconds at least 1"
         )));
     }
     let report = usar_console::bench::run_blocking(mission, args.viewers, args.seconds)
-        .map_err(console_failure)?;
+        .map_err(bad_input)?;
     if args.json {
         return super::print_json(&report);
     }

@@ -29,7 +29,7 @@ use crate::locomotion::{
     Gains, ModeInputs, RunMode, central_run, dead_end_turn, free_heading, lane_length, lane_open_m,
     select_run_mode, side_distance, target_approach, wall_following,
 };
-use crate::model::{kind, subtype};
+use crate::model::{Btm, kind, subtype};
 use crate::store::BtmStore;
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
@@ -201,10 +201,10 @@ impl<'a> Explorer<'a> {
     }
 
     /// Explores until no un-searched link is left or time runs out; `on_progress` gets the
-    /// simulated time and the robot's pose four times per simulated second.
+    /// simulated time, the robot's pose and the map so far four times per simulated second.
     pub(super) fn run(
         &mut self,
-        on_progress: &mut dyn FnMut(f64, Pose2),
+        on_progress: &mut dyn FnMut(f64, Pose2, &Btm),
     ) -> Result<StopReason, BuildError> {
         self.sense();
         self.start()?;
@@ -219,7 +219,7 @@ impl<'a> Explorer<'a> {
             }
             if now >= reported_s + 0.25 {
                 reported_s = (now * 4.0).floor() / 4.0;
-                on_progress(now, self.sim.robot(self.id).pose);
+                on_progress(now, self.sim.robot(self.id).pose, &self.map.btm);
             }
             let command = self.decide()?;
             self.sim.step(&[command]);
