@@ -42,7 +42,7 @@ enum Override {
     /// team's own robots.
     Path {
         follower: PathFollower,
-        recovery: Option<Recovery>,
+        recovery: Recovery,
         /// The velocity computed at the last step.
         command: Velocity,
     },
@@ -253,7 +253,7 @@ impl ConsoleHook {
                 let path = self.plan(mission, k, usar_world::Point2::new(x, y))?;
                 self.overrides[k] = Some(Override::Path {
                     follower: path,
-                    recovery: None,
+                    recovery: Recovery::default(),
                     command: Velocity::default(),
                 });
                 Ok(())
@@ -633,8 +633,9 @@ impl MissionHook for ConsoleHook {
                     self.overrides[k] = None;
                     continue;
                 }
-                // After a bump the team's own escapes, then the path again.
-                *command = match Recovery::step(recovery, self.sim_s, r.in_contact()) {
+                // After a bump the team's own recovery, then the path again.
+                recovery.record(r.last_motion());
+                *command = match recovery.step(self.sim_s, r.in_contact()) {
                     RecoveryStep::Escape(v) => v,
                     RecoveryStep::Ended | RecoveryStep::Free => follower.command(r.pose, &r.spec),
                 };

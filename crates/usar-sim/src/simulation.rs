@@ -57,6 +57,9 @@ pub struct SimRobot {
     pub failed: bool,
     pub odometry: Odometry,
     in_contact: bool,
+    /// The velocity its last step actually achieved (the command, scaled down when an obstacle
+    /// stopped it part-way): driving the negation for one step retraces the motion exactly.
+    last_motion: Velocity,
     rng: Pcg64Mcg,
     blocked: Arc<Grid<bool>>,
     laser: Arc<LaserModel>,
@@ -72,6 +75,11 @@ impl SimRobot {
     /// bumper would tell).
     pub fn in_contact(&self) -> bool {
         self.in_contact
+    }
+
+    /// The velocity its last step actually achieved (zero when it did not move).
+    pub fn last_motion(&self) -> Velocity {
+        self.last_motion
     }
 }
 
@@ -173,6 +181,7 @@ impl Simulation {
             failed: false,
             odometry: Odometry::new(pose),
             in_contact: false,
+            last_motion: Velocity::default(),
             rng: Pcg64Mcg::seed_from_u64(derive_seed(self.seed, id.0 as u64)),
             blocked,
             laser,
@@ -191,6 +200,7 @@ impl Simulation {
     /// Marks a robot as failed: it stops for good.
     pub fn fail_robot(&mut self, id: RobotId) {
         self.robots[id.0].failed = true;
+        self.robots[id.0].last_motion = Velocity::default();
     }
 
     /// Floor height under a point (0 outside the grid or on an obstacle).
@@ -236,6 +246,7 @@ impl Simulation {
             let n = ((sweep / half_cell).ceil() as usize).max(1);
             let (ds_n, dth_n) = (ds / n as f64, dth / n as f64);
             let mut stopped = false;
+            let mut done = 0;
             for _ in 0..n {
                 let p = self.robots[i].pose;
                 let mid = p.theta + dth_n / 2.0;
@@ -253,8 +264,14 @@ impl Simulation {
                 r.distance_m += ds_n.abs();
                 let noise = r.spec.noise.clone();
                 r.odometry.integrate(ds_n, dth_n, &noise, &mut r.rng);
+                done += 1;
             }
             let r = &mut self.robots[i];
+            let achieved = done as f64 / n as f64;
+            r.last_motion = Velocity {
+                linear_mps: v * achieved,
+                angular_radps: w * achieved,
+            };
             if stopped && !r.in_contact {
                 r.collisions += 1;
             }
@@ -385,6 +402,42 @@ mod tests {
         assert_eq!(r.collisions, 1);
         // Wall cell 45 spans x ∈ [4.5, 4.6): the front (x + 0.25) stops short of its centre 4.55.
         assert!(r.pose.x + 0.25 < 4.55 && r.pose.x > 4.1, "{}", r.pose.x);
+    }
+
+    #[test]
+    fn the_negated_last_motion_retraces_a_step_even_one_stopped_by_a_wall() {
+        let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
+        let id = sim
+            .add_robot(RobotSpec::wheeled(), Pose2::new(3.9, 2.0, 0.3))
+            .unwrap();
+        let forward = Velocity {
+            linear_mps: 0.5,
+            angular_radps: 0.4,
+        };
+        let mut poses = vec![sim.robot(id).pose];
+        let mut motions = Vec::new();
+        for _ in 0..8 {
+            sim.step(&[forward]);
+            poses.push(sim.robot(id).pose);
+            motions.push(sim.robot(id).last_motion());
+        }
+        assert!(
+            motions.contains(&forward) && motions.iter().any(|&m| m != forward),
+            "the wall stops the robot after some free steps: {motions:?}"
+        );
+        for (k, m) in motions.iter().enumerate().rev() {
+            sim.step(&[Velocity {
+                linear_mps: -m.linear_mps,
+                angular_radps: -m.angular_radps,
+            }]);
+            let (p, q) = (sim.robot(id).pose, poses[k]);
+            assert!(
+                (p.x - q.x).abs() < 1e-9
+                    && (p.y - q.y).abs() < 1e-9
+                    && (p.theta - q.theta).abs() < 1e-9,
+                "step {k}: {p:?} against {q:?}"
+            );
+        }
     }
 
     #[test]

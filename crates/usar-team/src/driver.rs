@@ -1,14 +1,20 @@
 //! Following a planned path with a unicycle robot: pure pursuit towards a look-ahead point,
 //! turning in place when the heading error is large.
 
+use std::collections::VecDeque;
 use usar_sim::{RobotSpec, Velocity};
 use usar_world::{Point2, Pose2, normalize_angle};
 
-/// Recovery after a collision (what a bumper-equipped base does): it tries these manoeuvres in
-/// turn, each for [`RECOVERY_S`], moving on to the next as soon as one bumps too; then it plans
-/// again. Backing up comes first; turning either way and creeping forward free a robot wedged
-/// with a corner behind it.
-const RECOVERY_S: f64 = 1.0;
+/// How long a recovery retraces the robot's own latest motion, simulated seconds.
+const RETRACE_S: f64 = 3.0;
+/// How many of its latest motions a robot remembers for retracing (30 s at the 0.1 s step).
+const TRAIL_STEPS: usize = 300;
+/// How long each of the [`ESCAPES`] is tried, simulated seconds.
+const ESCAPE_S: f64 = 1.0;
+/// The manoeuvres tried in turn when retracing is impossible or bumps too (something moved in
+/// behind the robot), each for [`ESCAPE_S`], moving on to the next as soon as one bumps: backing
+/// up comes first; turning either way and creeping forward free a robot wedged with a corner
+/// behind it.
 const ESCAPES: [Velocity; 6] = [
     Velocity {
         linear_mps: -0.15,
@@ -36,18 +42,30 @@ const ESCAPES: [Velocity; 6] = [
     },
 ];
 
-/// A recovery manoeuvre under way: the index into [`ESCAPES`] being tried and when it ends,
-/// simulated seconds.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Recovery after a collision (what a bumper-equipped base does). The robot first retraces its
+/// own latest motion for up to [`RETRACE_S`], driving each remembered step backwards, newest
+/// first: it came that way, so that way is free — even out of a gap between furniture too
+/// narrow to turn in, where backing straight and turning on the spot both bump. Then it plans
+/// again. Retracing continues, at the next bump, from where the last one stopped.
+#[derive(Clone, Debug, Default)]
 pub struct Recovery {
-    escape: usize,
-    until_s: f64,
+    manoeuvre: Option<Manoeuvre>,
+    /// The motions the robot made (`SimRobot::last_motion`), oldest first, without the
+    /// retracing ones and without standstills.
+    trail: VecDeque<Velocity>,
+}
+
+/// A recovery manoeuvre under way and when it ends, simulated seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Manoeuvre {
+    Retrace { until_s: f64 },
+    Escape { escape: usize, until_s: f64 },
 }
 
 /// What recovery asks of a robot this step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum RecoveryStep {
-    /// Drive this escape manoeuvre.
+    /// Drive this manoeuvre.
     Escape(Velocity),
     /// The manoeuvre just ended: the robot is free to plan and drive again.
     Ended,
@@ -56,32 +74,84 @@ pub enum RecoveryStep {
 }
 
 impl Recovery {
-    /// Advances `state` at time `now_s` given whether the robot's last motion bumped: a bump
-    /// starts the first escape, a bump during an escape moves on to the next one, and an escape
-    /// ends after [`RECOVERY_S`].
-    pub fn step(state: &mut Option<Recovery>, now_s: f64, in_contact: bool) -> RecoveryStep {
-        let start = |escape: usize| Recovery {
+    /// Whether a manoeuvre is under way.
+    pub fn is_active(&self) -> bool {
+        self.manoeuvre.is_some()
+    }
+
+    /// Ends any manoeuvre (a failed robot, a robot an operator takes over).
+    pub fn stop(&mut self) {
+        self.manoeuvre = None;
+    }
+
+    /// Remembers the motion the robot made this step (`SimRobot::last_motion`); call it after
+    /// every simulation step.
+    pub fn record(&mut self, motion: Velocity) {
+        let retracing = matches!(self.manoeuvre, Some(Manoeuvre::Retrace { .. }));
+        if retracing || motion == Velocity::default() {
+            return;
+        }
+        if self.trail.len() == TRAIL_STEPS {
+            self.trail.pop_front();
+        }
+        self.trail.push_back(motion);
+    }
+
+    /// Advances the recovery at time `now_s` given whether the robot's last motion bumped: a bump
+    /// starts retracing (or the first escape when there is nothing to retrace), a bump while
+    /// retracing starts the escapes, a bump during an escape moves on to the next one.
+    pub fn step(&mut self, now_s: f64, in_contact: bool) -> RecoveryStep {
+        let escape = |escape: usize| Manoeuvre::Escape {
             escape,
-            until_s: now_s + RECOVERY_S,
+            until_s: now_s + ESCAPE_S,
         };
-        match *state {
-            Some(r) if now_s < r.until_s => {
+        let (next, step) = match self.manoeuvre {
+            None if !in_contact => return RecoveryStep::Free,
+            None => match self.trail.pop_back() {
+                Some(m) => (
+                    Manoeuvre::Retrace {
+                        until_s: now_s + RETRACE_S,
+                    },
+                    backwards(m),
+                ),
+                None => (escape(0), ESCAPES[0]),
+            },
+            Some(Manoeuvre::Retrace { until_s }) => {
+                if in_contact {
+                    (escape(0), ESCAPES[0])
+                } else if now_s < until_s
+                    && let Some(m) = self.trail.pop_back()
+                {
+                    (Manoeuvre::Retrace { until_s }, backwards(m))
+                } else {
+                    self.manoeuvre = None;
+                    return RecoveryStep::Ended;
+                }
+            }
+            Some(Manoeuvre::Escape { escape: k, until_s }) if now_s < until_s => {
                 if in_contact {
                     // This manoeuvre bumps too: try the next one.
-                    *state = Some(start((r.escape + 1) % ESCAPES.len()));
+                    let k = (k + 1) % ESCAPES.len();
+                    (escape(k), ESCAPES[k])
+                } else {
+                    (Manoeuvre::Escape { escape: k, until_s }, ESCAPES[k])
                 }
-                RecoveryStep::Escape(ESCAPES[state.map_or(r.escape, |r| r.escape)])
             }
-            Some(_) => {
-                *state = None;
-                RecoveryStep::Ended
+            Some(Manoeuvre::Escape { .. }) => {
+                self.manoeuvre = None;
+                return RecoveryStep::Ended;
             }
-            None if in_contact => {
-                *state = Some(start(0));
-                RecoveryStep::Escape(ESCAPES[0])
-            }
-            None => RecoveryStep::Free,
-        }
+        };
+        self.manoeuvre = Some(next);
+        RecoveryStep::Escape(step)
+    }
+}
+
+/// The command that undoes one step of `motion`.
+fn backwards(motion: Velocity) -> Velocity {
+    Velocity {
+        linear_mps: -motion.linear_mps,
+        angular_radps: -motion.angular_radps,
     }
 }
 

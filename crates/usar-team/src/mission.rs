@@ -102,8 +102,8 @@ struct Agent {
     trajectory: Vec<Point2>,
     /// Path costs from the robot, reused between assignments.
     field: DistanceField,
-    /// A recovery manoeuvre in progress.
-    recovery: Option<Recovery>,
+    /// Recovery after bumps: the manoeuvre under way and the motions it may retrace.
+    recovery: Recovery,
     /// Recoveries since the current target was assigned.
     recoveries: u32,
     /// Retracing its own trajectory out of a pocket the map no longer connects.
@@ -269,7 +269,7 @@ impl TeamMission {
                 blacklist: Vec::new(),
                 trajectory: vec![pose.position()],
                 field: DistanceField::new(),
-                recovery: None,
+                recovery: Recovery::default(),
                 recoveries: 0,
                 escaping: false,
                 may_retrace: true,
@@ -870,7 +870,9 @@ impl TeamMission {
 
     /// Whether robot `robot` is backing out of a contact (a recovery manoeuvre).
     pub fn is_recovering(&self, robot: usize) -> bool {
-        self.agents.get(robot).is_some_and(|a| a.recovery.is_some())
+        self.agents
+            .get(robot)
+            .is_some_and(|a| a.recovery.is_active())
     }
 
     /// Replaces the relevance hypothesis of the auctions (paper 002 §4.1) while the mission
@@ -909,7 +911,7 @@ impl TeamMission {
                     a.target = None;
                     a.follower = PathFollower::default();
                     a.escaping = false;
-                    a.recovery = None;
+                    a.recovery.stop();
                 }
             }
             let mut replan = Vec::new();
@@ -919,7 +921,7 @@ impl TeamMission {
                 .enumerate()
                 .map(|(i, a)| {
                     let r = self.sim.robot(a.id);
-                    match Recovery::step(&mut a.recovery, now, r.in_contact()) {
+                    match a.recovery.step(now, r.in_contact()) {
                         RecoveryStep::Escape(v) => v,
                         RecoveryStep::Ended => {
                             a.recoveries += 1;
@@ -949,6 +951,9 @@ impl TeamMission {
                 .map(|(i, planned)| hook.command(i, planned))
                 .collect();
             self.sim.step(&commands);
+            for a in &mut self.agents {
+                a.recovery.record(self.sim.robot(a.id).last_motion());
+            }
             if !hook.after_step(&mut self) {
                 finish = Finish::Stopped;
                 break;
@@ -974,7 +979,7 @@ impl TeamMission {
             let auctioned = self.config.exploration.strategy != Strategy::Nearest;
             for (i, a) in self.agents.iter_mut().enumerate() {
                 let r = self.sim.robot(a.id);
-                if r.failed || a.recovery.is_some() || who.contains(&i) {
+                if r.failed || a.recovery.is_active() || who.contains(&i) {
                     continue;
                 }
                 let done = a.follower.is_done(r.pose);

@@ -40,7 +40,18 @@ pub struct RunSummary {
     pub relevant_target: f64,
     pub assigned_per_label: BTreeMap<RoomLabel, u32>,
     pub collisions: u32,
+    /// Each robot's distance and collisions: where the team's time went.
+    pub per_robot: Vec<RobotSummary>,
     pub series: Vec<MinuteSample>,
+}
+
+/// One robot's share of the run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RobotSummary {
+    pub robot: usize,
+    pub distance_m: f64,
+    /// Contacts with walls, obstacles or other robots (each counted when it begins).
+    pub collisions: u32,
 }
 
 impl RunSummary {
@@ -68,6 +79,15 @@ impl RunSummary {
             relevant_target: outcome.relevant_target,
             assigned_per_label: outcome.assigned_per_label.clone(),
             collisions: outcome.collisions,
+            per_robot: outcome
+                .per_robot
+                .iter()
+                .map(|r| RobotSummary {
+                    robot: r.robot,
+                    distance_m: r.distance_m,
+                    collisions: r.collisions,
+                })
+                .collect(),
             series: outcome
                 .series
                 .iter()

@@ -1,3 +1,4 @@
+mod driver;
 mod explore;
 mod mcdm;
 mod semantic;

@@ -1,0 +1,76 @@
+//! Driving and recovering from bumps.
+
+use std::sync::Arc;
+use usar_sim::{RobotSpec, SimConfig, Simulation, Velocity};
+use usar_team::driver::{PathFollower, Recovery, RecoveryStep};
+use usar_world::scene::obstacle;
+use usar_world::{Cell, GridGeometry, Point2, Pose2, Scene};
+
+/// A floor at 5 cm where all is blocked but an open box (x < 2 m, 3 m ≤ y ≤ 5 m) and, leading
+/// out of it, a quarter-circle slot 0.6 m wide round (2, 5.2) m with radius 1.2 m, closed at its
+/// north end: the wheeled robot (0.5 × 0.4 m) follows the bend but cannot turn in it.
+fn bent_slot() -> Arc<Scene> {
+    let g = GridGeometry::new(120, 140, 0.05, Point2::new(0.0, 0.0));
+    let mut scene = Scene::empty("bent slot", g);
+    let centre = Point2::new(2.0, 5.2);
+    for row in 0..g.height as i32 {
+        for col in 0..g.width as i32 {
+            let c = g.cell_center(Cell::new(col, row));
+            let in_box = c.x > 0.1 && c.x < 2.0 && c.y > 3.0 && c.y < 5.0;
+            let in_slot = c.x >= 2.0 && c.y <= 5.2 && (c.distance(centre) - 1.2).abs() <= 0.3;
+            if !(in_box || in_slot) {
+                scene.obstacle[Cell::new(col, row)] = obstacle::WALL;
+            }
+        }
+    }
+    Arc::new(scene)
+}
+
+#[test]
+fn a_robot_that_bumps_at_the_end_of_a_bent_slot_too_narrow_to_turn_in_backs_out_the_way_it_came() {
+    let mut sim = Simulation::new(bent_slot(), SimConfig::default(), 1);
+    let spec = RobotSpec::wheeled();
+    let id = sim
+        .add_robot(spec.clone(), Pose2::new(1.0, 4.0, 0.0))
+        .unwrap();
+    let mut recovery = Recovery::default();
+    // Drive 1 m east, then round the bend (radius 0.5 / (0.5 / 1.2) = 1.2 m) until the dead end stops
+    // the robot.
+    while !sim.robot(id).in_contact() {
+        let turning = if sim.robot(id).pose.x < 2.0 {
+            0.0
+        } else {
+            0.5 / 1.2
+        };
+        sim.step(&[Velocity {
+            linear_mps: 0.5,
+            angular_radps: turning,
+        }]);
+        recovery.record(sim.robot(id).last_motion());
+        assert!(sim.time_s() < 30.0, "never reached the dead end");
+    }
+    let end = sim.robot(id).pose;
+    assert!(end.y > 4.8 && end.theta > 1.2, "stopped early at {end:?}");
+    // Now it is sent back out: the path follower wants to turn round, which bumps.
+    let goal = Point2::new(0.5, 4.0);
+    let mut follower = PathFollower::new(vec![sim.robot(id).pose.position(), goal]);
+    let mut out_at = None;
+    while sim.time_s() < 120.0 && out_at.is_none() {
+        let r = sim.robot(id);
+        let command = match recovery.step(sim.time_s(), r.in_contact()) {
+            RecoveryStep::Escape(v) => v,
+            RecoveryStep::Ended | RecoveryStep::Free => follower.command(r.pose, &spec),
+        };
+        sim.step(&[command]);
+        recovery.record(sim.robot(id).last_motion());
+        if sim.robot(id).pose.x < 1.6 {
+            out_at = Some(sim.time_s());
+        }
+    }
+    assert!(
+        out_at.is_some(),
+        "still in the slot at {:?} after {} collisions",
+        sim.robot(id).pose,
+        sim.robot(id).collisions
+    );
+}
