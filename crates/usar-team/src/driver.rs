@@ -6,7 +6,7 @@ use usar_sim::{RobotSpec, Velocity};
 use usar_world::{Point2, Pose2, normalize_angle};
 
 /// How long a recovery retraces the robot's own latest motion, simulated seconds.
-const RETRACE_S: f64 = 3.0;
+const RETRACE_S: f64 = 1.0;
 /// How many of its latest motions a robot remembers for retracing (30 s at the 0.1 s step).
 const TRAIL_STEPS: usize = 300;
 /// How long each of the [`ESCAPES`] is tried, simulated seconds.

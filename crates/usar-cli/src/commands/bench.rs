@@ -111,10 +111,6 @@ fn corners(grid: &NavGrid) -> (Cell, Cell) {
     )
 }
 
-/// The experiment engine's own cost per run: a design of 2 000 no-op runs, run on one thread
-/// into a fresh result database (expanding, scheduling, committing to SQLite; runs that finish
-/// together share a commit). Second: one run per transaction (the case of runs that take long),
-/// the median over 200 commits — mostly the fsync of SQLite's journal.
 /// MAXQ-Q training speed (see `BenchReport::maxq_steps_per_s`): a learner warmed up on 100
 /// trials, then timed over 64 further scenes, median of three passes.
 fn maxq_training_speed() -> (f64, f64) {
@@ -163,6 +159,10 @@ fn maxq_training_speed() -> (f64, f64) {
     (median(prepared), median(with_generation))
 }
 
+/// The experiment engine's own cost per run: a design of 2 000 no-op runs, run on one thread
+/// into a fresh result database (expanding, scheduling, committing to SQLite; runs that finish
+/// together share a commit). Second: one run per transaction (the case of runs that take long),
+/// the median over 200 commits — mostly the fsync of SQLite's journal.
 fn campaign_overhead_ms() -> CmdResult<(f64, f64)> {
     use usar_campaign::{Design, NoopRunner, Shard, Store, run_design};
     let levels: Vec<String> = (0..100).map(|a| a.to_string()).collect();
