@@ -71,7 +71,9 @@ pub struct TravelTimes {
     turning: Vec<f64>,
     /// Per cell: octant of the last move of that way ([`NO_MOVE`] at the source).
     last_move: Vec<u8>,
-    stack: Vec<Cell>,
+    /// Cells of the descent not memoised yet, with the octant of the move into each from the
+    /// robot's side.
+    stack: Vec<(Cell, u8)>,
     theta: f64,
 }
 
@@ -116,9 +118,10 @@ impl TravelTimes {
             if self.stamp[i] == self.epoch {
                 break;
             }
-            match field.descent_step(c) {
-                Some(next) => {
-                    self.stack.push(c);
+            match field.descent_move(c) {
+                Some((next, k)) => {
+                    // The move from `next` into `c` is move k reversed.
+                    self.stack.push((c, (DIRECTION_OCTANT[k] + 4) % 8));
                     c = next;
                 }
                 None => {
@@ -134,9 +137,7 @@ impl TravelTimes {
         }
         // Back up to the goal, adding the turns from the robot's side.
         let mut below = g.index(c);
-        let mut below_cell = c;
-        while let Some(x) = self.stack.pop() {
-            let d = octant(below_cell, x);
+        while let Some((x, d)) = self.stack.pop() {
             let t = match self.last_move[below] {
                 NO_MOVE => first_turn(self.theta, d),
                 p => self.turning[below] + turn(p, d),
@@ -146,7 +147,6 @@ impl TravelTimes {
             self.turning[i] = t;
             self.last_move[i] = d;
             below = i;
-            below_cell = x;
         }
         let turning = self.turning[g.index(goal)];
         Some(length_m / spec.max_linear_mps + turning / spec.max_angular_radps)

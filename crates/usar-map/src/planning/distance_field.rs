@@ -134,6 +134,12 @@ pub struct DistanceField {
     reached: usize,
     /// Padded indices of the cells a search may stop after settling (reused buffer).
     pending_targets: Vec<u32>,
+    /// The starting distances (∞ on passable cells, [`BLOCKED_DISTANCE`] on blocked ones) of
+    /// the grid whose cells are `start_cells`: a search on an unchanged grid copies them
+    /// instead of deriving them cell by cell (the bid grid changes only at merges, and every
+    /// robot searches it in between).
+    start_distance: Vec<f64>,
+    start_cells: Vec<u8>,
 }
 
 impl Default for DistanceField {
@@ -156,6 +162,8 @@ impl DistanceField {
             buckets: Default::default(),
             reached: 0,
             pending_targets: Vec::new(),
+            start_distance: Vec::new(),
+            start_cells: Vec::new(),
         }
     }
 
@@ -194,13 +202,19 @@ impl DistanceField {
             // Nothing is reachable: `index` finds no distance for any cell.
             return;
         }
-        self.distance.extend(grid.cells().iter().map(|&c| {
-            if c == PASSABLE {
-                f64::INFINITY
-            } else {
-                BLOCKED_DISTANCE
-            }
-        }));
+        if self.start_cells != grid.cells() {
+            self.start_cells.clear();
+            self.start_cells.extend_from_slice(grid.cells());
+            self.start_distance.clear();
+            self.start_distance.extend(grid.cells().iter().map(|&c| {
+                if c == PASSABLE {
+                    f64::INFINITY
+                } else {
+                    BLOCKED_DISTANCE
+                }
+            }));
+        }
+        self.distance.extend_from_slice(&self.start_distance);
         for list in self.buckets.iter_mut().flatten() {
             list.clear();
         }
@@ -374,9 +388,18 @@ impl DistanceField {
     /// The step [`DistanceField::path_to_source`] takes from `cell`: the next cell towards its
     /// nearest source. `None` at a source, or when `cell` is unreachable or outside.
     pub fn descent_step(&self, cell: Cell) -> Option<Cell> {
+        self.descent_move(cell).map(|(next, _)| next)
+    }
+
+    /// [`DistanceField::descent_step`] with the move it takes: the next cell and the index of
+    /// the move in [`usar_world::NEIGHBORS8`].
+    pub fn descent_move(&self, cell: Cell) -> Option<(Cell, usize)> {
         let i = self.index(cell)?;
         if self.distance[i] > 0.0 {
-            self.descend(i).map(|j| self.cell_of_padded(j))
+            self.descend_move(i).map(|(_, k)| {
+                let (dc, dr) = NEIGHBORS8[k];
+                (Cell::new(cell.col + dc, cell.row + dr), k)
+            })
         } else {
             None
         }
@@ -386,12 +409,18 @@ impl DistanceField {
     /// neighbour (in [`usar_world::NEIGHBORS8`] order) whose distance plus the move's cost is
     /// `i`'s.
     fn descend(&self, i: usize) -> Option<usize> {
+        self.descend_move(i).map(|(j, _)| j)
+    }
+
+    /// [`DistanceField::descend`] with the index of the move taken.
+    #[inline]
+    fn descend_move(&self, i: usize) -> Option<(usize, usize)> {
         let s = self.stride as isize;
         let eight = self.connectivity == Connectivity::Eight;
         let passable = |j: isize| self.distance[j as usize] >= 0.0;
         let d = self.distance[i];
         let here = i as isize;
-        for (dc, dr) in NEIGHBORS8 {
+        for (k, (dc, dr)) in NEIGHBORS8.into_iter().enumerate() {
             let diagonal = dc != 0 && dr != 0;
             if diagonal && !eight {
                 break;
@@ -404,7 +433,7 @@ impl DistanceField {
             }
             let cost = if diagonal { DIAGONAL_COST } else { 1.0 };
             if (self.distance[next as usize] + cost - d).abs() <= DESCENT_TOLERANCE * d.max(1.0) {
-                return Some(next as usize);
+                return Some((next as usize, k));
             }
         }
         None
