@@ -112,28 +112,19 @@ impl TravelTimes {
         let g = *field.geometry();
         self.stack.clear();
         // Down to a memoised cell or the source.
-        let mut c = goal;
-        loop {
-            let i = g.checked_index(c)?;
-            if self.stamp[i] == self.epoch {
-                break;
-            }
-            match field.descent_move(c) {
-                Some((next, k)) => {
-                    // The move from `next` into `c` is move k reversed.
-                    self.stack.push((c, (DIRECTION_OCTANT[k] + 4) % 8));
-                    c = next;
-                }
-                None => {
-                    if field.distance_cells(c) != Some(0.0) {
-                        return None;
-                    }
-                    self.stamp[i] = self.epoch;
-                    self.turning[i] = 0.0;
-                    self.last_move[i] = NO_MOVE;
-                    break;
-                }
-            }
+        let (stamp, epoch, stack) = (&self.stamp, self.epoch, &mut self.stack);
+        let c = field.descend_while(
+            goal,
+            |c| stamp[g.index(c)] != epoch,
+            // The move from the next cell into `c` is move k reversed.
+            |c, k| stack.push((c, (DIRECTION_OCTANT[k] + 4) % 8)),
+        )?;
+        let i = g.index(c);
+        if self.stamp[i] != self.epoch {
+            // The source.
+            self.stamp[i] = self.epoch;
+            self.turning[i] = 0.0;
+            self.last_move[i] = NO_MOVE;
         }
         // Back up to the goal, adding the turns from the robot's side.
         let mut below = g.index(c);
