@@ -386,6 +386,10 @@ impl TeamMission {
                 copy.drain_changed(&mut scratch);
                 scratch.clear();
             }
+            // Nothing reads a robot's own class-change log: emptied here, it stays small
+            // instead of growing with every scan of the mission.
+            a.map.drain_changed(&mut scratch);
+            scratch.clear();
         }
         let mut maps: Vec<&mut OccupancyGrid> = self
             .agents
