@@ -172,7 +172,10 @@ impl GridAStar {
         if !grid.is_passable(start) || !grid.is_passable(goal) || grid.cells().len() > MAX_CELLS {
             return None;
         }
-        if self.separation.separated(grid, grid.padded_index(start), grid.padded_index(goal)) {
+        if self
+            .separation
+            .separated(grid, grid.padded_index(start), grid.padded_index(goal))
+        {
             // The goal lies in another connected part: nothing is expanded.
             return None;
         }
