@@ -24,6 +24,8 @@ pub const LOGODDS_LIMIT: i8 = 40;
 /// The value of a cell no beam has reached yet.
 pub const NEVER_OBSERVED: i8 = i8::MIN;
 const TILE_SHIFT: u32 = 5;
+// A row of a tile is one `u32` of [`OccupancyGrid::merge_tracked`]'s bits.
+const _: () = assert!(1 << TILE_SHIFT == u32::BITS);
 
 /// What a robot believes about a cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -463,10 +465,12 @@ impl OccupancyGrid {
     /// [`OccupancyGrid::merge_from`] when `sums` has followed every merge of this grid with the
     /// same list of `sources` (it starts empty and is reset when the list's length changes).
     /// Instead of adding up every source on every dirty tile, each source's dirty tiles update
-    /// the running sums by the cells that changed since its last merge.
+    /// the running sums by the cells that changed since its last merge, and only those cells
+    /// are merged again.
     pub fn merge_tracked(&mut self, sources: &mut [&mut OccupancyGrid], sums: &mut MergeSums) {
         let n = self.logodds.len();
-        if sums.last.len() != sources.len() || sums.sum.len() != n {
+        let reset = sums.last.len() != sources.len() || sums.sum.len() != n;
+        if reset {
             // A new list: start from what the sources hold now, all of it.
             *sums = MergeSums {
                 sum: vec![0; n],
@@ -482,34 +486,37 @@ impl OccupancyGrid {
             if !sources.iter().any(|s| s.log.dirty_tiles[tile]) {
                 continue;
             }
+            // Per row of the tile, a bit per column: the cells some source changed. The others
+            // keep their merged value (it is the merge of the same sums); after a reset every
+            // cell is computed again.
+            let mut touched = [if reset { u32::MAX } else { 0 }; 1 << TILE_SHIFT];
             for (s, last) in sources.iter().zip(sums.last.iter_mut()) {
                 if !s.log.dirty_tiles[tile] {
                     continue;
                 }
-                for span in self.tile_rows(tile) {
-                    for (k, (&now, was)) in s.logodds[span.clone()]
-                        .iter()
-                        .zip(&mut last[span.clone()])
-                        .enumerate()
-                    {
-                        if now == *was {
-                            continue;
-                        }
+                for (row_bits, span) in touched.iter_mut().zip(self.tile_rows(tile)) {
+                    let now = &s.logodds[span.clone()];
+                    let was = &mut last[span.clone()];
+                    for_each_change(now, was, |k, now, was| {
                         let i = span.start + k;
-                        if *was != NEVER_OBSERVED {
-                            sums.sum[i] -= i16::from(*was);
+                        if was != NEVER_OBSERVED {
+                            sums.sum[i] -= i16::from(was);
                             sums.observers[i] -= 1;
                         }
                         if now != NEVER_OBSERVED {
                             sums.sum[i] += i16::from(now);
                             sums.observers[i] += 1;
                         }
-                        *was = now;
-                    }
+                        *row_bits |= 1 << k;
+                    });
                 }
             }
-            for span in self.tile_rows(tile) {
-                for i in span {
+            for (&row_bits, span) in touched.iter().zip(self.tile_rows(tile)) {
+                // Columns in order, as a merge of every cell sets them.
+                let mut bits = row_bits & (u32::MAX >> (32 - span.len()));
+                while bits != 0 {
+                    let i = span.start + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
                     let target = merged_logodds(sums.sum[i], sums.observers[i] > 0);
                     self.cells().set(i, target);
                 }
@@ -517,6 +524,34 @@ impl OccupancyGrid {
         }
         for s in sources.iter_mut() {
             s.log.dirty_tiles.fill(false);
+        }
+    }
+}
+
+/// Calls `change(k, now[k], was[k])` for each k where the two differ, in order, and copies
+/// `now` into `was`. Compares eight cells at a time: most are unchanged since the last merge.
+#[inline]
+fn for_each_change(now: &[i8], was: &mut [i8], mut change: impl FnMut(usize, i8, i8)) {
+    let mut k = 0;
+    for (now8, was8) in now.chunks_exact(8).zip(was.chunks_exact_mut(8)) {
+        let (a, b): ([i8; 8], [i8; 8]) = (
+            now8.try_into().expect("eight cells"),
+            (&*was8).try_into().expect("eight cells"),
+        );
+        if a != b {
+            for (j, (&n, w)) in now8.iter().zip(was8.iter_mut()).enumerate() {
+                if n != *w {
+                    change(k + j, n, *w);
+                    *w = n;
+                }
+            }
+        }
+        k += 8;
+    }
+    for (j, (&n, w)) in now[k..].iter().zip(was[k..].iter_mut()).enumerate() {
+        if n != *w {
+            change(k + j, n, *w);
+            *w = n;
         }
     }
 }

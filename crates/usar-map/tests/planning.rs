@@ -764,6 +764,49 @@ fn blocked_or_outside_endpoints_give_no_path() {
     assert_eq!(field.distance_cells(Cell::new(0, 0)), None);
 }
 
+/// A goal in a walled pocket is found unreachable without a search, whichever end is in the
+/// pocket, also when the pocket's wall is open at a corner (no corner cutting); two parts both
+/// larger than the floods' bound are still found unreachable, by the search.
+#[test]
+fn unreachable_goals_are_answered_without_searching_the_start_s_whole_part() {
+    let g = GridGeometry::new(120, 120, 1.0, Point2::new(0.0, 0.0));
+    let ring = |c: Cell, lo: i32, hi: i32| {
+        (lo..=hi).contains(&c.col)
+            && (lo..=hi).contains(&c.row)
+            && (c.col == lo || c.col == hi || c.row == lo || c.row == hi)
+    };
+    // A closed pocket inside (9..=13)², and one inside (20..=24)² whose corner (24, 24) is open.
+    let grid = NavGrid::from_fn(g, |c| {
+        ring(c, 9, 13) || (ring(c, 20, 24) && c != Cell::new(24, 24))
+    });
+    let mut astar = GridAStar::new();
+    for connectivity in BOTH {
+        for (a, b) in [
+            (Cell::new(100, 100), Cell::new(11, 11)),
+            (Cell::new(11, 11), Cell::new(100, 100)),
+            (Cell::new(100, 100), Cell::new(22, 22)),
+        ] {
+            assert_eq!(astar.plan(&grid, a, b, connectivity), None);
+            assert_eq!(astar.expanded(), 0, "{a:?} → {b:?}");
+        }
+        let path = astar
+            .plan(&grid, Cell::new(100, 100), Cell::new(24, 24), connectivity)
+            .expect("the open corner is outside the pocket");
+        assert_valid_path(&grid, &path, connectivity);
+    }
+    // Two halves of 60 × 120 cells, split by a wall with diagonal gaps only.
+    let halves = NavGrid::from_fn(g, |c| {
+        (c.col == 60 && c.row % 2 == 0) || (c.col == 61 && c.row % 2 == 1)
+    });
+    for connectivity in BOTH {
+        assert_eq!(
+            astar.plan(&halves, Cell::new(0, 0), Cell::new(119, 119), connectivity),
+            None
+        );
+        assert!(astar.expanded() > 0, "the search ran");
+    }
+}
+
 #[test]
 fn tie_breaking_toward_larger_g_walks_straight_to_the_goal_on_an_open_floor() {
     let grid = NavGrid::from_fn(

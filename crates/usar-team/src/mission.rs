@@ -100,7 +100,7 @@ struct Agent {
     progress_mark: (Point2, f64),
     blacklist: Vec<(Cell, f64)>,
     trajectory: Vec<Point2>,
-    /// Path costs from the robot, reused between assignments.
+    /// Path costs from the robot, reused between assignments (nearest-frontier strategy).
     field: DistanceField,
     /// Recovery after bumps: the manoeuvre under way and the motions it may retrace.
     recovery: Recovery,
@@ -149,6 +149,9 @@ pub struct TeamMission {
     measures: Measures,
     sizer: TeamSizer,
     planner: GridAStar,
+    /// The current bidder's distance field on the bid grid: one buffer for every bidder, so
+    /// that an auction keeps one field's memory in cache rather than one per robot.
+    bid_field: DistanceField,
     /// b(p, r) of the current bidder's paths, memoised along its distance field.
     travel_times: TravelTimes,
     strategy_rng: Pcg64Mcg,
@@ -312,6 +315,7 @@ impl TeamMission {
             semantic,
             measures,
             planner: GridAStar::new(),
+            bid_field: DistanceField::new(),
             travel_times: TravelTimes::new(),
             strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
             radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
@@ -386,6 +390,10 @@ impl TeamMission {
                 copy.drain_changed(&mut scratch);
                 scratch.clear();
             }
+            // Nothing reads a robot's own class-change log: emptied here, it stays small
+            // instead of growing with every scan of the mission.
+            a.map.drain_changed(&mut scratch);
+            scratch.clear();
         }
         let mut maps: Vec<&mut OccupancyGrid> = self
             .agents
@@ -693,24 +701,25 @@ impl TeamMission {
                 }
             }
             let source = nearest_passable(grid, cg.world_to_cell(pose.position()), 4);
-            agent.field.compute_until_settled(
+            let field = &mut self.bid_field;
+            field.compute_until_settled(
                 grid,
                 &source.into_iter().collect::<Vec<_>>(),
                 usar_map::planning::Connectivity::Eight,
                 &targets,
             );
             let travel_times = &mut self.travel_times;
-            travel_times.reset(&agent.field, pose.theta);
+            travel_times.reset(field, pose.theta);
             let row: Vec<Option<crate::bids::Travel>> = (0..cands.len())
                 .map(|k| {
                     if !live[k] {
                         return None;
                     }
                     let goal = goals[k];
-                    let cells = agent.field.distance_cells(goal)?;
+                    let cells = field.distance_cells(goal)?;
                     let length_m = cells * cg.resolution_m;
                     let time_s = if needs_time {
-                        travel_times.time_s(&agent.field, goal, length_m, &spec)?
+                        travel_times.time_s(field, goal, length_m, &spec)?
                     } else {
                         length_m / spec.max_linear_mps
                     };

@@ -71,7 +71,9 @@ pub struct TravelTimes {
     turning: Vec<f64>,
     /// Per cell: octant of the last move of that way ([`NO_MOVE`] at the source).
     last_move: Vec<u8>,
-    stack: Vec<Cell>,
+    /// Cells of the descent not memoised yet, with the octant of the move into each from the
+    /// robot's side.
+    stack: Vec<(Cell, u8)>,
     theta: f64,
 }
 
@@ -110,33 +112,23 @@ impl TravelTimes {
         let g = *field.geometry();
         self.stack.clear();
         // Down to a memoised cell or the source.
-        let mut c = goal;
-        loop {
-            let i = g.checked_index(c)?;
-            if self.stamp[i] == self.epoch {
-                break;
-            }
-            match field.descent_step(c) {
-                Some(next) => {
-                    self.stack.push(c);
-                    c = next;
-                }
-                None => {
-                    if field.distance_cells(c) != Some(0.0) {
-                        return None;
-                    }
-                    self.stamp[i] = self.epoch;
-                    self.turning[i] = 0.0;
-                    self.last_move[i] = NO_MOVE;
-                    break;
-                }
-            }
+        let (stamp, epoch, stack) = (&self.stamp, self.epoch, &mut self.stack);
+        let c = field.descend_while(
+            goal,
+            |c| stamp[g.index(c)] != epoch,
+            // The move from the next cell into `c` is move k reversed.
+            |c, k| stack.push((c, (DIRECTION_OCTANT[k] + 4) % 8)),
+        )?;
+        let i = g.index(c);
+        if self.stamp[i] != self.epoch {
+            // The source.
+            self.stamp[i] = self.epoch;
+            self.turning[i] = 0.0;
+            self.last_move[i] = NO_MOVE;
         }
         // Back up to the goal, adding the turns from the robot's side.
         let mut below = g.index(c);
-        let mut below_cell = c;
-        while let Some(x) = self.stack.pop() {
-            let d = octant(below_cell, x);
+        while let Some((x, d)) = self.stack.pop() {
             let t = match self.last_move[below] {
                 NO_MOVE => first_turn(self.theta, d),
                 p => self.turning[below] + turn(p, d),
@@ -146,7 +138,6 @@ impl TravelTimes {
             self.turning[i] = t;
             self.last_move[i] = d;
             below = i;
-            below_cell = x;
         }
         let turning = self.turning[g.index(goal)];
         Some(length_m / spec.max_linear_mps + turning / spec.max_angular_radps)

@@ -20,6 +20,7 @@
 use super::jump_point::{JumpPointScratch, JumpPointSearch};
 use super::nav_grid::NavGrid;
 use super::open_list::{OpenEntry, OpenList};
+use super::separation::Separation;
 use serde::{Deserialize, Serialize};
 use usar_world::Cell;
 
@@ -110,6 +111,8 @@ pub struct GridAStar {
     expanded: usize,
     /// Cells stepped on by the jumps of the last search (0 for plain A*).
     scanned: usize,
+    /// The floods that answer "no path" before a search would examine the start's whole part.
+    separation: Separation,
 }
 
 impl GridAStar {
@@ -119,7 +122,8 @@ impl GridAStar {
     }
 
     /// Number of cells expanded (taken from the open list and closed) by the last search: with
-    /// jump point search, the jump points expanded.
+    /// jump point search, the jump points expanded; 0 when no search ran (a blocked end, or a
+    /// goal found unreachable beforehand, see `separation.rs`).
     pub fn expanded(&self) -> usize {
         self.expanded
     }
@@ -166,6 +170,13 @@ impl GridAStar {
         self.expanded = 0;
         self.scanned = 0;
         if !grid.is_passable(start) || !grid.is_passable(goal) || grid.cells().len() > MAX_CELLS {
+            return None;
+        }
+        if self
+            .separation
+            .separated(grid, grid.padded_index(start), grid.padded_index(goal))
+        {
+            // The goal lies in another connected part: nothing is expanded.
             return None;
         }
         self.prepare(grid.cells().len());

@@ -37,6 +37,7 @@ mod jump_point;
 mod nav_grid;
 mod open_list;
 pub mod scenarios;
+mod separation;
 
 pub use self::distance_field::DistanceField;
 pub use self::graph_astar::{TotalCost, astar, astar_bag, graph_astar};
