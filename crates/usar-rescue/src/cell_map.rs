@@ -55,14 +55,6 @@ impl MapCell {
         )
     }
 
-    /// Whether the map shows climbable rubble here (visited or not).
-    pub fn is_climbable(self) -> bool {
-        matches!(
-            self,
-            MapCell::ClimbableUnvisited | MapCell::ClimbableVisited
-        )
-    }
-
     pub fn is_visited(self) -> bool {
         matches!(self, MapCell::OpenVisited | MapCell::ClimbableVisited)
     }
