@@ -348,8 +348,8 @@ impl Explorer {
     ///
     /// Read from the distances *from `s`* (the graph is undirected): the first step is a
     /// neighbour of the robot one step nearer to `s`: ahead, else behind, else left, else right
-    /// of the robot's heading (the fewest turns; [`crate::travel`]). A target's distances stay valid while the robot
-    /// follows it, so a step costs a few look-ups instead of a search.
+    /// of the robot's heading (the fewest turns; [`crate::travel`]). A target's distances stay
+    /// valid while the robot follows it, so a step costs a few look-ups instead of a search.
     fn toward(&mut self, robot: usize, s: usize) -> Option<(u32, Option<Direction>)> {
         if s == robot {
             return Some((0, None));
@@ -559,7 +559,6 @@ impl Explorer {
 
     /// The heading toward the nearest cell from which the robot faces victim cell (vc, vr), and
     /// that path's length; `None` when no such cell is reachable.
-    #[allow(clippy::too_many_arguments)]
     pub fn toward_victim(
         &mut self,
         map: &CellMap,
