@@ -512,9 +512,9 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         }
         self.stale = false;
         let c = self.robot.cell;
-        self.guidance = self
-            .explorer
-            .guide(&self.map, c.col, c.row, Some(self.guidance));
+        self.guidance =
+            self.explorer
+                .guide(&self.map, c.col, c.row, self.heading(), Some(self.guidance));
         if self.teleoperated {
             self.current = None;
             return;
@@ -529,6 +529,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             return;
         }
         let mut best: Option<(u32, usize, Option<Direction>)> = None;
+        let heading = self.heading();
         if self
             .victims
             .iter()
@@ -544,7 +545,7 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             }
             if let Some((dir, d)) = self
                 .explorer
-                .toward_victim(&self.map, c.col, c.row, v.cell.0, v.cell.1)
+                .toward_victim(&self.map, c.col, c.row, heading, v.cell.0, v.cell.1)
                 && best.is_none_or(|(bd, _, _)| d < bd)
             {
                 best = Some((d, k, Some(dir)));
@@ -705,10 +706,15 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
                 let c = self.robot.cell;
                 d.step() == (c.col - before.col, c.row - before.row)
             });
-        // A bump also corrects the map (progress), but it is never on course; progress made
-        // by the replanning that follows (a victim brought at hand) counts too (`act`).
-        self.on_course =
-            moved_along || (outcome != CellOutcome::Collided && self.progress != progress_before);
+        // A bump also corrects the map (progress), but it is never on course; nor is progress
+        // off the heading (a cell classified while turning away from the one NG was sent to
+        // face). Progress made by the replanning that follows (a victim brought at hand)
+        // counts too (`act`).
+        let faces_heading = desired == Some(self.heading());
+        self.on_course = moved_along
+            || (outcome != CellOutcome::Collided
+                && self.progress != progress_before
+                && faces_heading);
         self.collided = outcome == CellOutcome::Collided;
         if outcome == CellOutcome::Moved && act == CellAction::Forward {
             let (dc, dr) = self.heading().step();
@@ -784,12 +790,16 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
             action::REJECT => self.reject(),
             _ => self.exit(),
         };
+        let progress_acted = self.progress;
         if !self.done {
             self.replan();
         }
         if a <= action::ROTATE_RIGHT {
             if self.progress != progress_before {
-                self.on_course |= !self.collided;
+                // Progress of the replanning (a victim brought at hand) is on course.
+                if self.progress != progress_acted {
+                    self.on_course |= !self.collided;
+                }
                 self.idle_steps = 0;
                 self.stuck_idle = false;
             } else if !std::mem::take(&mut self.operator_drove) {

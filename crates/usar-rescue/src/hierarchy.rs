@@ -41,13 +41,15 @@
 //! NG: stuck, nothing to head for, a victim at hand — or, since it started, the robot moved to
 //! another cell, classified one (exploration progress) or switched between exploring and
 //! approaching a victim; it ends with the pseudo-reward [`NG_ON_COURSE`] when that last step
-//! kept to the desired heading. HC₃: the robot is no longer stuck (an operator command took
-//! effect).
+//! kept to the desired heading (moved along it, or classified a cell while facing it). HC₃:
+//! the robot is no longer stuck (an operator command took effect).
 //!
 //! **Preconditions.** Exit USAR Scene is available only when no cell of interest the robot
 //! can reach or face remains (§IV-A-2: Exit "triggers the end of exploration"); NUR then has
-//! nothing else to do. B is available only when the robot's map shows the cell behind free:
-//! the depth sensor looks ahead, and the rear infrared cannot tell open floor from a drop.
+//! nothing else to do. B is available only into a cell the robot has already crossed (visited):
+//! the depth sensor looks ahead and the rear infrared cannot tell open floor from a drop, so the
+//! robot reverses only over ground it has driven on; it enters new cells facing them, and the
+//! depth sensor then classifies the cell beyond.
 
 use crate::state::{RescueState, VictimStatus};
 use usar_maxq::{Hierarchy, Node, NodeId, NodeKind};
@@ -67,11 +69,11 @@ pub const REJECT: NodeId = 11;
 pub const EXIT: NodeId = 12;
 
 /// The primitives' preconditions, for the hierarchy and the flat learner alike: Exit only
-/// when nothing is left to explore, B only into a cell the map shows free.
+/// when nothing is left to explore, B only into a cell the robot has visited.
 pub fn action_available(a: usize, s: &RescueState) -> bool {
     match a {
         action::EXIT => !s.targets_remain(),
-        action::BACKWARD => s.back_known_free(),
+        action::BACKWARD => s.back_visited(),
         _ => true,
     }
 }
@@ -92,9 +94,9 @@ pub mod action {
 pub const NG_STATES: usize = 256 * 4 * 2;
 
 /// NG's pseudo-reward R̃ when it ends on course (the robot moved one cell along the desired
-/// heading, or made exploration progress): Table I's "moving in the desired exploration
-/// direction" (+15), given for every step along D_E's path, also through visited cells. It
-/// only shapes NG's own choices (C̃); the parents see the real rewards.
+/// heading, or made exploration progress facing it): Table I's "moving in the desired
+/// exploration direction" (+15), given for every step along D_E's path, also through visited
+/// cells. It only shapes NG's own choices (C̃); the parents see the real rewards.
 pub const NG_ON_COURSE: f64 = 15.0;
 
 /// Paper 000's hierarchy.

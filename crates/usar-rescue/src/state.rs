@@ -108,9 +108,10 @@ impl RescueState {
         }
         self
     }
-    /// Whether the robot's map shows the cell behind free (see `backward`).
-    pub fn back_known_free(&self) -> bool {
-        matches!(self.backward >> 1, 1 | 2)
+    /// Whether the cell behind is one the robot has crossed (visited, see `backward`): the
+    /// only cells it reverses into.
+    pub fn back_visited(&self) -> bool {
+        self.backward >> 1 == 2
     }
     pub fn on_course(&self) -> bool {
         self.flags & ON_COURSE != 0

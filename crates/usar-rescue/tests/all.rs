@@ -1,2 +1,3 @@
+mod exploration;
 mod rescue;
 mod travel;

@@ -197,6 +197,26 @@ fn exit_is_available_only_when_nothing_is_left_to_explore() {
     assert!(h.available(hierarchy::FORWARD, &exploring));
     // The map shows nothing behind the robot (backward category 0): no blind reversing.
     assert!(!h.available(hierarchy::BACKWARD, &exploring));
+    // B only into a cell the robot has crossed: not into an unvisited one (category 1), into a
+    // visited one (category 2).
+    let behind = |category: u8| {
+        RescueState::new(
+            false,
+            true,
+            false,
+            true,
+            VictimStatus::None,
+            0,
+            0,
+            category * 2,
+            0,
+            0,
+            0,
+            0,
+        )
+    };
+    assert!(!h.available(hierarchy::BACKWARD, &behind(1)));
+    assert!(h.available(hierarchy::BACKWARD, &behind(2)));
 }
 
 #[test]
