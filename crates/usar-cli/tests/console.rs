@@ -14,16 +14,14 @@ fn a_bad_bind_address_or_mission_file_is_bad_input() {
     assert_bad_input(&out, "--bind localhost");
     let dir = tempfile::tempdir().expect("temp dir");
     let mission = dir.path().join("mission.toml");
-    std::fs::write(&mission, "team_robots = 2\nwarp_drive = true\n").expect("writes");
-    let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
-    assert_bad_input(&out, "warp_drive");
-    std::fs::write(&mission, "speed = -1\n").expect("writes");
-    let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
-    assert_bad_input(&out, "speed");
-    std::fs::write(&mission, "team_robot = \"hovercraft\"\n").expect("writes");
-    let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
-    assert_bad_input(&out, "team_robot");
-    std::fs::write(&mission, "floor_cell_m2 = 0\n").expect("writes");
-    let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
-    assert_bad_input(&out, "floor_cell_m2");
+    for (text, field) in [
+        ("team_robots = 2\nwarp_drive = true\n", "warp_drive"),
+        ("speed = -1\n", "speed"),
+        ("team_robot = \"hovercraft\"\n", "team_robot"),
+        ("floor_cell_m2 = 0\n", "floor_cell_m2"),
+    ] {
+        std::fs::write(&mission, text).expect("writes");
+        let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);
+        assert_bad_input(&out, field);
+    }
 }

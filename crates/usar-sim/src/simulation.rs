@@ -25,6 +25,19 @@ pub struct Velocity {
     pub angular_radps: f64,
 }
 
+/// The opposite command: one step of it undoes one step of the original (see
+/// [`SimRobot::last_motion`]).
+impl std::ops::Neg for Velocity {
+    type Output = Velocity;
+
+    fn neg(self) -> Velocity {
+        Velocity {
+            linear_mps: -self.linear_mps,
+            angular_radps: -self.angular_radps,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SimConfig {
     /// Length of one time step, seconds.
@@ -426,10 +439,7 @@ mod tests {
             "the wall stops the robot after some free steps: {motions:?}"
         );
         for (k, m) in motions.iter().enumerate().rev() {
-            sim.step(&[Velocity {
-                linear_mps: -m.linear_mps,
-                angular_radps: -m.angular_radps,
-            }]);
+            sim.step(&[-*m]);
             let (p, q) = (sim.robot(id).pose, poses[k]);
             assert!(
                 (p.x - q.x).abs() < 1e-9

@@ -101,9 +101,9 @@ impl Recovery {
     /// starts retracing (or the first escape when there is nothing to retrace), a bump while
     /// retracing starts the escapes, a bump during an escape moves on to the next one.
     pub fn step(&mut self, now_s: f64, in_contact: bool) -> RecoveryStep {
-        let escape = |escape: usize| Manoeuvre::Escape {
-            escape,
-            until_s: now_s + ESCAPE_S,
+        let escape = |escape: usize| {
+            let until_s = now_s + ESCAPE_S;
+            (Manoeuvre::Escape { escape, until_s }, ESCAPES[escape])
         };
         let (next, step) = match self.manoeuvre {
             None if !in_contact => return RecoveryStep::Free,
@@ -112,17 +112,17 @@ impl Recovery {
                     Manoeuvre::Retrace {
                         until_s: now_s + RETRACE_S,
                     },
-                    backwards(m),
+                    -m,
                 ),
-                None => (escape(0), ESCAPES[0]),
+                None => escape(0),
             },
             Some(Manoeuvre::Retrace { until_s }) => {
                 if in_contact {
-                    (escape(0), ESCAPES[0])
+                    escape(0)
                 } else if now_s < until_s
                     && let Some(m) = self.trail.pop_back()
                 {
-                    (Manoeuvre::Retrace { until_s }, backwards(m))
+                    (Manoeuvre::Retrace { until_s }, -m)
                 } else {
                     self.manoeuvre = None;
                     return RecoveryStep::Ended;
@@ -131,8 +131,7 @@ impl Recovery {
             Some(Manoeuvre::Escape { escape: k, until_s }) if now_s < until_s => {
                 if in_contact {
                     // This manoeuvre bumps too: try the next one.
-                    let k = (k + 1) % ESCAPES.len();
-                    (escape(k), ESCAPES[k])
+                    escape((k + 1) % ESCAPES.len())
                 } else {
                     (Manoeuvre::Escape { escape: k, until_s }, ESCAPES[k])
                 }
@@ -144,14 +143,6 @@ impl Recovery {
         };
         self.manoeuvre = Some(next);
         RecoveryStep::Escape(step)
-    }
-}
-
-/// The command that undoes one step of `motion`.
-fn backwards(motion: Velocity) -> Velocity {
-    Velocity {
-        linear_mps: -motion.linear_mps,
-        angular_radps: -motion.angular_radps,
     }
 }
 

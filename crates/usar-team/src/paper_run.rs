@@ -1,7 +1,7 @@
 //! What `usar team run` and the `team` campaign runner report of a mission (paper 002 §4):
 //! final relevant area, total area and distance, and the same every simulated minute.
 
-use crate::outcome::{Finish, TeamOutcome};
+use crate::outcome::{Finish, RobotOutcome, TeamOutcome};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use usar_world::RoomLabel;
@@ -40,18 +40,9 @@ pub struct RunSummary {
     pub relevant_target: f64,
     pub assigned_per_label: BTreeMap<RoomLabel, u32>,
     pub collisions: u32,
-    /// Each robot's distance and collisions: where the team's time went.
-    pub per_robot: Vec<RobotSummary>,
+    /// Each robot's distance and collisions (not its trajectory): where the team's time went.
+    pub per_robot: Vec<RobotOutcome>,
     pub series: Vec<MinuteSample>,
-}
-
-/// One robot's share of the run.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RobotSummary {
-    pub robot: usize,
-    pub distance_m: f64,
-    /// Contacts with walls, obstacles or other robots (each counted when it begins).
-    pub collisions: u32,
 }
 
 impl RunSummary {
@@ -82,10 +73,9 @@ impl RunSummary {
             per_robot: outcome
                 .per_robot
                 .iter()
-                .map(|r| RobotSummary {
-                    robot: r.robot,
-                    distance_m: r.distance_m,
-                    collisions: r.collisions,
+                .map(|r| RobotOutcome {
+                    trajectory: Vec::new(),
+                    ..*r
                 })
                 .collect(),
             series: outcome
