@@ -96,8 +96,11 @@ pub trait Hierarchy<S> {
     }
     /// A composite node whose executed children also teach `Some(apprentice)` (a composite
     /// with the same children, in the same order): the completion function of the apprentice is
-    /// updated with every child the node runs. Paper 000 §IV-A-5: while the operator drives
-    /// (HC), the navigation subtask learns from the operator's actions.
+    /// updated with every child the node runs, as if the apprentice had run that child itself
+    /// from the state the child started in: it ends (with its pseudo-reward) where it would
+    /// have ended ([`Hierarchy::terminated`] or [`Hierarchy::ended_since`] that state). Paper
+    /// 000 §IV-A-5: while the operator drives (HC), the navigation subtask learns from the
+    /// operator's actions.
     fn apprentice(&self, _node: NodeId) -> Option<NodeId> {
         None
     }
@@ -334,11 +337,14 @@ impl MaxqQ {
             };
             let child = self.children(i)[k];
             let child_start = run.visited.len();
+            let apprentice = h.apprentice(i).map(|j| (j, s.clone()));
             let next = self.maxq_q(h, run, child, s, rng);
             let ended = Self::over(h, run, i, &start, &next);
             self.learn_completion(h, i, k, &run.visited[child_start..], &next, ended);
-            if let Some(j) = h.apprentice(i) {
-                let ended = h.terminated(j, &next) || run.domain.is_terminal(&next);
+            if let Some((j, before)) = apprentice {
+                // The apprentice learns as if it had run this child itself from `before`:
+                // it ends where it would have ended then.
+                let ended = Self::over(h, run, j, &before, &next);
                 self.learn_completion(h, j, k, &run.visited[child_start..], &next, ended);
             }
             s = next;

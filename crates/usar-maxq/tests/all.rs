@@ -1,1 +1,2 @@
+mod apprentice;
 mod taxi;

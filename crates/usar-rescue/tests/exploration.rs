@@ -1,5 +1,6 @@
-//! The exploration guidance: local exploration of the eight cells around the robot before D_E's
-//! target, and the first step of a shortest path that needs no turn.
+//! The exploration guidance: local exploration (the eight cells around the robot, then cells
+//! within d₁ moves) before D_E's target, and the first step of a shortest path that needs no
+//! turn.
 
 use usar_rescue::cell_map::{CellMap, MapCell};
 use usar_rescue::exploration::{Direction, ExplorationWeights, Explorer};
@@ -39,6 +40,24 @@ fn a_neighbour_of_interest_comes_before_the_exploration_target() {
         heading(&map, (3, 3), Direction::North),
         Some(Direction::East)
     );
+}
+
+#[test]
+fn a_cell_of_interest_within_d1_moves_comes_before_the_exploration_target() {
+    // Open unvisited cells along the east edge pull D_E east (5 moves away). An unknown cell
+    // faced from a cell 3 moves west (d₁ = 3 in simulation) is explored first; one faced from
+    // 4 moves away is not.
+    let far: Vec<_> = (0..11).map(|r| ((10, r), MapCell::OpenUnvisited)).collect();
+    for (unknown, step) in [((1, 5), Direction::West), ((0, 5), Direction::East)] {
+        let mut cells = far.clone();
+        cells.push((unknown, MapCell::Unknown));
+        let map = map_with(11, &cells);
+        assert_eq!(
+            heading(&map, (5, 5), Direction::East),
+            Some(step),
+            "unknown cell at {unknown:?}"
+        );
+    }
 }
 
 #[test]
