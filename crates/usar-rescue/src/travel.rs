@@ -23,7 +23,7 @@
 //! was obtained.
 
 /// A distance meaning "not reached" (any value ≥ [`UNREACHED`] is unreached; a row also
-/// holds [`BLOCKED`] for impassable cells).
+/// holds `BLOCKED` for impassable cells).
 pub const UNREACHED: u16 = u16::MAX - 1;
 /// Impassable cell, in a row.
 const BLOCKED: u16 = u16::MAX;
