@@ -96,6 +96,12 @@ impl CellMap {
             .then(|| (row * self.cols + col) as usize)
     }
 
+    /// (col, row) of cell index `i` (the inverse of [`CellMap::index`]).
+    #[inline]
+    pub fn col_row(&self, i: usize) -> (i32, i32) {
+        (i as i32 % self.cols, i as i32 / self.cols)
+    }
+
     /// The category of a cell; outside the arena everything is non-climbable (the boundary).
     #[inline]
     pub fn get(&self, col: i32, row: i32) -> MapCell {

@@ -57,6 +57,7 @@
 //! the fewest turns.
 
 use crate::cell_map::{CellMap, MapCell};
+use crate::marks::Marks;
 use crate::travel::{TravelDistances, UNREACHED};
 use serde::{Deserialize, Serialize};
 
@@ -268,10 +269,9 @@ pub struct Explorer {
     /// between first steps prefer no turn).
     heading: Direction,
     /// The search of [`Explorer::nearby_step`]: (cell, travel distance, first step) in
-    /// breadth-first order, and the cells it reached (marked with `stamp`).
+    /// breadth-first order, and the cells it reached.
     nearby: Vec<(u32, u8, u8)>,
-    reached: Vec<u32>,
-    stamp: u32,
+    reached: Marks,
 }
 
 /// No cell.
@@ -282,7 +282,7 @@ impl Explorer {
         let n = map.cells.len();
         let mut neighbours = vec![[NONE; 4]; n];
         for (i, nb) in neighbours.iter_mut().enumerate() {
-            let (col, row) = (i as i32 % map.cols, i as i32 / map.cols);
+            let (col, row) = map.col_row(i);
             for dir in Direction::ALL {
                 let (dc, dr) = dir.step();
                 if let Some(k) = map.index(col + dc, row + dr) {
@@ -292,7 +292,7 @@ impl Explorer {
         }
         let neighbours8 = (0..n)
             .map(|i| {
-                let (col, row) = (i as i32 % map.cols, i as i32 / map.cols);
+                let (col, row) = map.col_row(i);
                 usar_world::NEIGHBORS8
                     .map(|(dc, dr)| map.index(col + dc, row + dr).map_or(NONE, |k| k as u32))
             })
@@ -311,8 +311,7 @@ impl Explorer {
             partial: false,
             heading: Direction::East,
             nearby: Vec::new(),
-            reached: vec![0; n],
-            stamp: 0,
+            reached: Marks::new(n),
         };
         for i in 0..n {
             e.refresh(map, i);
@@ -398,12 +397,19 @@ impl Explorer {
             let nb = self.neighbours[robot][k];
             nb != NONE && row[nb as usize] == d - 1
         };
-        let h = self.heading.index();
-        let step = [h, (h + 2) % 4, (h + 1) % 4, (h + 3) % 4]
+        let step = self
+            .fewest_turns()
             .into_iter()
             .find(|&k| on_path(k))
             .map(Direction::from_index);
         Some((u32::from(d), step))
+    }
+
+    /// Direction indices of the robot's first moves in the order of the fewest turns: ahead,
+    /// behind (reversing), left, right.
+    fn fewest_turns(&self) -> [usize; 4] {
+        let h = self.heading.index();
+        [h, (h + 2) % 4, (h + 1) % 4, (h + 3) % 4]
     }
 
     /// The reached neighbour from which the robot can face unclassified cell `i`: the nearest
@@ -474,17 +480,11 @@ impl Explorer {
     /// [`Explorer::toward`]); at equal distance the cell found first wins.
     fn nearby_step(&mut self, map: &CellMap, robot: usize) -> Option<(usize, Direction)> {
         let reach = self.local_reach();
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.reached.fill(0);
-            self.stamp = 1;
-        }
-        let stamp = self.stamp;
-        let h = self.heading.index();
-        let order = [h, (h + 2) % 4, (h + 1) % 4, (h + 3) % 4];
+        self.reached.clear();
+        let order = self.fewest_turns();
         self.nearby.clear();
         self.nearby.push((robot as u32, 0, 0));
-        self.reached[robot] = stamp;
+        self.reached.mark(robot);
         // (distance, cell, heading) of the best cell so far.
         let mut best: Option<(u8, usize, u8)> = None;
         let mut head = 0;
@@ -502,7 +502,7 @@ impl Explorer {
             let first = |k: usize| if i == robot { k as u8 } else { step };
             for k in order {
                 let nb = self.neighbours[i][k];
-                if nb == NONE || self.reached[nb as usize] == stamp {
+                if nb == NONE || self.reached.is_marked(nb as usize) {
                     continue;
                 }
                 let nb = nb as usize;
@@ -513,7 +513,7 @@ impl Explorer {
                         best = Some((d + 1, nb, first(k)));
                     }
                 } else if cell.is_known_passable() && u32::from(d) < reach {
-                    self.reached[nb] = stamp;
+                    self.reached.mark(nb);
                     self.nearby.push((nb as u32, d + 1, first(k)));
                 }
             }
@@ -563,9 +563,8 @@ impl Explorer {
             };
         }
         if let Some((t, step)) = self.nearby_step(map, robot) {
-            let (col, row) = (t as i32 % self.cols, t as i32 / self.cols);
             return Guidance {
-                target: Some((col, row)),
+                target: Some(map.col_row(t)),
                 heading: Some(step),
                 ..kept.unwrap_or_default()
             };
@@ -638,11 +637,10 @@ impl Explorer {
             };
         };
         let (_, _, target) = best[direction.index()].expect("chosen region has a target");
-        let (col, row) = (target as i32 % self.cols, target as i32 / self.cols);
         let heading = self.heading_to(map, target, robot).flatten();
         Guidance {
             direction: Some(direction),
-            target: Some((col, row)),
+            target: Some(map.col_row(target)),
             heading,
             utility,
         }

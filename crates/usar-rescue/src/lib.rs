@@ -29,6 +29,7 @@ pub mod domain;
 pub mod evaluation;
 pub mod exploration;
 pub mod hierarchy;
+mod marks;
 pub mod operator;
 pub mod perception;
 pub mod policy;

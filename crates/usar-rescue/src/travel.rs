@@ -25,6 +25,8 @@
 /// A distance meaning "not reached" (any value ≥ [`UNREACHED`] is unreached; a row also
 /// holds `BLOCKED` for impassable cells).
 pub const UNREACHED: u16 = u16::MAX - 1;
+use crate::marks::Marks;
+
 /// Impassable cell, in a row.
 const BLOCKED: u16 = u16::MAX;
 const NONE: u32 = u32::MAX;
@@ -51,8 +53,7 @@ pub struct TravelDistances {
     log: Vec<u32>,
     queue: Vec<u32>,
     /// Marks of the walk back in [`TravelDistances::first_step`].
-    mark: Vec<u32>,
-    stamp: u32,
+    mark: Marks,
 }
 
 /// Logged additions above which a field is rebuilt rather than updated.
@@ -79,8 +80,7 @@ impl TravelDistances {
             epoch: 1,
             log: Vec::new(),
             queue: Vec::with_capacity(n),
-            mark: vec![0; w],
-            stamp: 0,
+            mark: Marks::new(w),
         }
     }
 
@@ -187,16 +187,11 @@ impl TravelDistances {
                 .position(|&k| k as usize == target)
                 .map(|k| k as u8);
         }
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.mark.fill(0);
-            self.stamp = 1;
-        }
-        let stamp = self.stamp;
+        self.mark.clear();
         // Walk back from the target over cells one step nearer, down to the cells at 1.
         self.queue.clear();
         self.queue.push(target as u32);
-        self.mark[target] = stamp;
+        self.mark.mark(target);
         let mut head = 0;
         while head < self.queue.len() {
             let i = self.queue[head] as usize;
@@ -206,22 +201,22 @@ impl TravelDistances {
                 // Predecessors at distance 1 are neighbours of the source: mark them only.
                 for &k in &self.neighbours[i] {
                     if dist[k as usize] == 1 {
-                        self.mark[k as usize] = stamp;
+                        self.mark.mark(k as usize);
                     }
                 }
                 continue;
             }
             for &k in &self.neighbours[i] {
                 let k = k as usize;
-                if dist[k] == want && self.mark[k] != stamp {
-                    self.mark[k] = stamp;
+                if dist[k] == want && !self.mark.is_marked(k) {
+                    self.mark.mark(k);
                     self.queue.push(k as u32);
                 }
             }
         }
         self.neighbours[source]
             .iter()
-            .position(|&k| self.mark[k as usize] == stamp && dist[k as usize] == 1)
+            .position(|&k| self.mark.is_marked(k as usize) && dist[k as usize] == 1)
             .map(|k| k as u8)
     }
 }

@@ -399,12 +399,16 @@ mod tests {
         Arc::new(s)
     }
 
+    /// A wheeled robot at `pose` in [`walled_box`].
+    fn wheeled_in_box(pose: Pose2) -> (Simulation, RobotId) {
+        let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
+        let id = sim.add_robot(RobotSpec::wheeled(), pose).unwrap();
+        (sim, id)
+    }
+
     #[test]
     fn driving_into_a_wall_stops_and_counts_one_collision() {
-        let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
-        let id = sim
-            .add_robot(RobotSpec::wheeled(), Pose2::new(2.0, 2.0, 0.0))
-            .unwrap();
+        let (mut sim, id) = wheeled_in_box(Pose2::new(2.0, 2.0, 0.0));
         for _ in 0..100 {
             sim.step(&[Velocity {
                 linear_mps: 0.5,
@@ -419,10 +423,7 @@ mod tests {
 
     #[test]
     fn the_negated_last_motion_retraces_a_step_even_one_stopped_by_a_wall() {
-        let mut sim = Simulation::new(walled_box(), SimConfig::default(), 1);
-        let id = sim
-            .add_robot(RobotSpec::wheeled(), Pose2::new(3.9, 2.0, 0.3))
-            .unwrap();
+        let (mut sim, id) = wheeled_in_box(Pose2::new(3.9, 2.0, 0.3));
         let forward = Velocity {
             linear_mps: 0.5,
             angular_radps: 0.4,
