@@ -165,6 +165,45 @@ fn generating_twice_gives_identical_bytes_and_the_file_round_trips() {
 }
 
 #[test]
+fn furniture_share_shapes_the_office_and_bad_shares_are_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let generate = |extra: &[&str], out: &str| {
+        let mut args = vec!["scene", "gen", "office", "--seed", "2", "-o", out];
+        args.extend_from_slice(extra);
+        usar(&args)
+    };
+    for (extra, out) in [
+        (&[][..], path("default.json")),
+        (&["--furniture", "0.05"][..], path("five.json")),
+        (&["--furniture", "0.02"][..], path("two.json")),
+    ] {
+        let o = generate(extra, &out);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    // 0.05 is the office's own share; 0.02 furnishes the same floor plan more sparsely.
+    assert_eq!(read("default.json"), read("five.json"));
+    assert_ne!(read("default.json"), read("two.json"));
+
+    assert_bad_input(
+        &generate(&["--furniture", "0.5"], &path("bad.json")),
+        "found 0.5, expected a number in [0, 0.3]",
+    );
+    let rubble = usar(&[
+        "scene",
+        "gen",
+        "rubble",
+        "--furniture",
+        "0.1",
+        "-o",
+        &path("bad.json"),
+    ]);
+    assert_bad_input(&rubble, "only office and mall");
+    assert!(!dir.path().join("bad.json").exists());
+}
+
+#[test]
 fn scene_info_json_reports_ground_truth() {
     let out = usar(&["scene", "info", "course", "--seed", "1", "--json"]);
     assert!(

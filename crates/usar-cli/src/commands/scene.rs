@@ -2,7 +2,8 @@
 
 use super::print_json;
 use crate::cli::{
-    SceneCommand, SceneExportArgs, SceneGenArgs, SceneImportArgs, SceneInfoArgs, SceneShowArgs,
+    GeneratorKind, SceneCommand, SceneExportArgs, SceneGenArgs, SceneImportArgs, SceneInfoArgs,
+    SceneShowArgs,
 };
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::scene_source;
@@ -35,7 +36,36 @@ fn summary(scene: &usar_world::Scene, path: &std::path::Path) -> serde_json::Val
 }
 
 fn generate(args: SceneGenArgs) -> CmdResult {
-    let scene = usar_world::generate::generate(scene_source::kind(args.kind), args.seed);
+    let scene = match (args.kind, args.furniture) {
+        (_, None) => usar_world::generate::generate(scene_source::kind(args.kind), args.seed),
+        (GeneratorKind::Office | GeneratorKind::Mall, Some(share)) => {
+            use usar_world::generate::{BuildingParams, generate_mall, generate_office};
+            let office = args.kind == GeneratorKind::Office;
+            let defaults = if office {
+                BuildingParams::office()
+            } else {
+                BuildingParams::mall()
+            };
+            let params = BuildingParams {
+                furniture_fraction: share,
+                ..defaults
+            };
+            params
+                .check()
+                .map_err(|e| bad_input(anyhow::anyhow!("--furniture: {e}")))?;
+            if office {
+                generate_office(args.seed, &params)
+            } else {
+                generate_mall(args.seed, &params)
+            }
+        }
+        (kind, Some(_)) => {
+            return Err(bad_input(anyhow::anyhow!(
+                "--furniture: the {} generator has no furniture (only office and mall do)",
+                scene_source::kind(kind)
+            )));
+        }
+    };
     usar_world::write_scene(&scene, &args.output).input()?;
     if args.json {
         print_json(&summary(&scene, &args.output))
