@@ -251,9 +251,10 @@ impl ConsoleHook {
                 let k = team_robot(robot, n)?;
                 let mission = mission.ok_or("the team's mission has ended")?;
                 let path = self.plan(mission, k, usar_world::Point2::new(x, y))?;
+                let spec = &mission.simulation().robots()[k].spec;
                 self.overrides[k] = Some(Override::Path {
                     follower: path,
-                    recovery: Recovery::default(),
+                    recovery: Recovery::for_robot(spec),
                     command: Velocity::default(),
                 });
                 Ok(())

@@ -5,12 +5,18 @@ use std::collections::VecDeque;
 use usar_sim::{RobotSpec, Velocity};
 use usar_world::{Point2, Pose2, normalize_angle};
 
-/// How long a recovery retraces the robot's own latest motion, simulated seconds.
+/// How long a recovery retraces the robot's own latest motion, simulated seconds, at least.
 const RETRACE_S: f64 = 1.0;
+/// How far a recovery retraces, metres: a robot slower than 0.5 m/s retraces for longer.
+const RETRACE_M: f64 = 0.5;
 /// How many of its latest motions a robot remembers for retracing (30 s at the 0.1 s step).
 const TRAIL_STEPS: usize = 300;
-/// How long each of the [`ESCAPES`] is tried, simulated seconds.
+/// How long each of the [`ESCAPES`] is tried, simulated seconds, at least.
 const ESCAPE_S: f64 = 1.0;
+/// The turn and the distance each escape should reach, radians and metres (its velocity for
+/// [`ESCAPE_S`]): a robot slower than that, whose speeds clip the escape, keeps at it for longer.
+const ESCAPE_TURN_RAD: f64 = 0.8;
+const ESCAPE_M: f64 = 0.15;
 /// The manoeuvres tried in turn when retracing is impossible or bumps too (something moved in
 /// behind the robot), each for [`ESCAPE_S`], moving on to the next as soon as one bumps: backing
 /// up comes first; turning either way and creeping forward free a robot wedged with a corner
@@ -47,8 +53,11 @@ const ESCAPES: [Velocity; 6] = [
 /// first: it came that way, so that way is free — even out of a gap between furniture too
 /// narrow to turn in, where backing straight and turning on the spot both bump. Then it plans
 /// again. Retracing continues, at the next bump, from where the last one stopped.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Recovery {
+    /// How long to retrace and to try each escape, seconds (from the robot's speeds).
+    retrace_s: f64,
+    escape_s: f64,
     manoeuvre: Option<Manoeuvre>,
     /// The motions the robot made (`SimRobot::last_motion`), oldest first, without the
     /// retracing ones and without standstills.
@@ -73,7 +82,33 @@ pub enum RecoveryStep {
     Free,
 }
 
+impl Default for Recovery {
+    /// Recovery for a robot that drives at least 0.5 m/s and turns at least 0.8 rad/s.
+    fn default() -> Self {
+        Self {
+            retrace_s: RETRACE_S,
+            escape_s: ESCAPE_S,
+            manoeuvre: None,
+            trail: VecDeque::new(),
+        }
+    }
+}
+
 impl Recovery {
+    /// Recovery for a robot with `spec`'s speeds: manoeuvres last long enough to retrace
+    /// [`RETRACE_M`] and to turn [`ESCAPE_TURN_RAD`] or back [`ESCAPE_M`] at those speeds.
+    /// A slow robot retraced and escaped for the same time as a fast one undid too little of
+    /// its motion and stayed wedged against the furniture it had bumped.
+    pub fn for_robot(spec: &RobotSpec) -> Self {
+        Self {
+            retrace_s: RETRACE_S.max(RETRACE_M / spec.max_linear_mps),
+            escape_s: ESCAPE_S
+                .max(ESCAPE_TURN_RAD / spec.max_angular_radps)
+                .max(ESCAPE_M / spec.max_linear_mps),
+            ..Self::default()
+        }
+    }
+
     /// Whether a manoeuvre is under way.
     pub fn is_active(&self) -> bool {
         self.manoeuvre.is_some()
@@ -101,8 +136,9 @@ impl Recovery {
     /// starts retracing (or the first escape when there is nothing to retrace), a bump while
     /// retracing starts the escapes, a bump during an escape moves on to the next one.
     pub fn step(&mut self, now_s: f64, in_contact: bool) -> RecoveryStep {
+        let escape_s = self.escape_s;
         let escape = |escape: usize| {
-            let until_s = now_s + ESCAPE_S;
+            let until_s = now_s + escape_s;
             (Manoeuvre::Escape { escape, until_s }, ESCAPES[escape])
         };
         let (next, step) = match self.manoeuvre {
@@ -110,7 +146,7 @@ impl Recovery {
             None => match self.trail.pop_back() {
                 Some(m) => (
                     Manoeuvre::Retrace {
-                        until_s: now_s + RETRACE_S,
+                        until_s: now_s + self.retrace_s,
                     },
                     -m,
                 ),

@@ -272,7 +272,7 @@ impl TeamMission {
                 blacklist: Vec::new(),
                 trajectory: vec![pose.position()],
                 field: DistanceField::new(),
-                recovery: Recovery::default(),
+                recovery: Recovery::for_robot(&config.robot),
                 recoveries: 0,
                 escaping: false,
                 may_retrace: true,
