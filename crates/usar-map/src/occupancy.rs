@@ -532,6 +532,15 @@ impl OccupancyGrid {
 /// `now` into `was`. Compares eight cells at a time: most are unchanged since the last merge.
 #[inline]
 fn for_each_change(now: &[i8], was: &mut [i8], mut change: impl FnMut(usize, i8, i8)) {
+    // Cell by cell, from index `k0`.
+    let mut cells = |k0: usize, now: &[i8], was: &mut [i8]| {
+        for (j, (&n, w)) in now.iter().zip(was.iter_mut()).enumerate() {
+            if n != *w {
+                change(k0 + j, n, *w);
+                *w = n;
+            }
+        }
+    };
     let mut k = 0;
     for (now8, was8) in now.chunks_exact(8).zip(was.chunks_exact_mut(8)) {
         let (a, b): ([i8; 8], [i8; 8]) = (
@@ -539,21 +548,11 @@ fn for_each_change(now: &[i8], was: &mut [i8], mut change: impl FnMut(usize, i8,
             (&*was8).try_into().expect("eight cells"),
         );
         if a != b {
-            for (j, (&n, w)) in now8.iter().zip(was8.iter_mut()).enumerate() {
-                if n != *w {
-                    change(k + j, n, *w);
-                    *w = n;
-                }
-            }
+            cells(k, now8, was8);
         }
         k += 8;
     }
-    for (j, (&n, w)) in now[k..].iter().zip(was[k..].iter_mut()).enumerate() {
-        if n != *w {
-            change(k + j, n, *w);
-            *w = n;
-        }
-    }
+    cells(k, &now[k..], &mut was[k..]);
 }
 
 #[cfg(test)]

@@ -11,12 +11,9 @@ const RETRACE_S: f64 = 1.0;
 const RETRACE_M: f64 = 0.5;
 /// How many of its latest motions a robot remembers for retracing (30 s at the 0.1 s step).
 const TRAIL_STEPS: usize = 300;
-/// How long each of the [`ESCAPES`] is tried, simulated seconds, at least.
+/// How long each of the [`ESCAPES`] is tried, simulated seconds, by a robot whose speeds do
+/// not clip it; a slower robot keeps at each for longer (see [`Recovery::for_robot`]).
 const ESCAPE_S: f64 = 1.0;
-/// The turn and the distance each escape should reach, radians and metres (its velocity for
-/// [`ESCAPE_S`]): a robot slower than that, whose speeds clip the escape, keeps at it for longer.
-const ESCAPE_TURN_RAD: f64 = 0.8;
-const ESCAPE_M: f64 = 0.15;
 /// The manoeuvres tried in turn when retracing is impossible or bumps too (something moved in
 /// behind the robot), each for [`ESCAPE_S`], moving on to the next as soon as one bumps: backing
 /// up comes first; turning either way and creeping forward free a robot wedged with a corner
@@ -95,16 +92,23 @@ impl Default for Recovery {
 }
 
 impl Recovery {
-    /// Recovery for a robot with `spec`'s speeds: manoeuvres last long enough to retrace
-    /// [`RETRACE_M`] and to turn [`ESCAPE_TURN_RAD`] or back [`ESCAPE_M`] at those speeds.
-    /// A slow robot retraced and escaped for the same time as a fast one undid too little of
-    /// its motion and stayed wedged against the furniture it had bumped.
+    /// Recovery for a robot with `spec`'s speeds: it retraces [`RETRACE_M`] at least, and
+    /// tries each escape long enough to turn and move as far as [`ESCAPES`] do in
+    /// [`ESCAPE_S`], however much its speed limits clip them. A slow robot retracing and
+    /// escaping for the same time as a fast one undid too little of its motion and stayed
+    /// wedged against the furniture it had bumped.
     pub fn for_robot(spec: &RobotSpec) -> Self {
+        // How many times slower than commanded the robot drives the most clipped escape.
+        let clip = ESCAPES
+            .iter()
+            .map(|e| {
+                (e.linear_mps.abs() / spec.max_linear_mps)
+                    .max(e.angular_radps.abs() / spec.max_angular_radps)
+            })
+            .fold(1.0, f64::max);
         Self {
             retrace_s: RETRACE_S.max(RETRACE_M / spec.max_linear_mps),
-            escape_s: ESCAPE_S
-                .max(ESCAPE_TURN_RAD / spec.max_angular_radps)
-                .max(ESCAPE_M / spec.max_linear_mps),
+            escape_s: ESCAPE_S * clip,
             ..Self::default()
         }
     }
