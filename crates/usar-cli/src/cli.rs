@@ -710,7 +710,8 @@ pub struct TeamRunArgs {
     #[arg(long)]
     pub png: Option<std::path::PathBuf>,
     /// Also write every allocation of the auctions (time, robot, candidate, perceived label,
-    /// S(p), frontier length, path length, winning bid, i(p)) to this CSV file.
+    /// S(p), frontier length, path length, winning bid, i(p), known fraction of its room) to this CSV
+    /// file.
     #[arg(long)]
     pub trace: Option<std::path::PathBuf>,
     /// Print the run as JSON (no progress bar).

@@ -360,6 +360,25 @@ fn team_run_prints_relevant_and_total_area_every_minute() {
     let series = v["series"].as_array().unwrap();
     assert_eq!(series.len(), 3, "minutes 0, 1, 2");
     assert!(series[2]["relevant_area_m2"].as_f64().is_some());
+    // The allocation trace: one row per allocation, each room's known fraction in [0, 1].
+    let dir = tempfile::tempdir().unwrap();
+    let trace = dir.path().join("trace.csv");
+    let traced = usar(&[&args[..], &["--trace", trace.to_str().unwrap()]].concat());
+    assert_eq!(traced.stdout, out.stdout, "tracing changes nothing");
+    let csv = std::fs::read_to_string(&trace).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let known = header.iter().position(|&h| h == "room_known").unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.len() >= 3, "every robot is allocated a target");
+    for row in &rows {
+        assert_eq!(row.len(), header.len());
+        if !row[known].is_empty() {
+            let f: f64 = row[known].parse().unwrap();
+            assert!((0.0..=1.0).contains(&f), "room_known {f}");
+        }
+    }
+    assert!(rows.iter().any(|r| !r[known].is_empty()));
     assert_bad_input(
         &usar(&["team", "run", "--strategy", "greedy", "--json"]),
         "expected random, distance, d-mcdm, s-mcdm",

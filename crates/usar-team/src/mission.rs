@@ -795,6 +795,7 @@ impl TeamMission {
                                 path_m: travel[k][c].map_or(f64::NAN, |t| t.length_m),
                                 utility: bids[k][c].unwrap_or(f64::NAN),
                                 ideal_robots: ideal[c],
+                                room_known: rooms[c].map(|k| self.semantic.perceived_fraction(k)),
                             });
                             let label = self.semantic.room_of(g.index(target)).or(rooms[c]);
                             if let Some(k) = label {

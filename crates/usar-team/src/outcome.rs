@@ -64,6 +64,10 @@ pub struct Allocation {
     pub utility: f64,
     /// i(p) (1 under SR).
     pub ideal_robots: usize,
+    /// How much of the candidate's room the team's map knew at the auction, 0 to 1 (None when
+    /// the candidate lies in no room): S-MCDM sending robots to rooms already 80 % known, for
+    /// the frontiers furniture shadows, shows here.
+    pub room_known: Option<f64>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -115,11 +115,11 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
 /// The auctions' allocations as CSV, one row each (no field needs quoting).
 fn allocations_csv(allocations: &[usar_team::Allocation]) -> Vec<u8> {
     let mut out = String::from(
-        "time_s,robot,x_m,y_m,label,relevance,frontier_cells,path_m,utility,ideal_robots\n",
+        "time_s,robot,x_m,y_m,label,relevance,frontier_cells,path_m,utility,ideal_robots,room_known\n",
     );
     for a in allocations {
         out.push_str(&format!(
-            "{:.1},{},{:.2},{:.2},{},{:.2},{},{:.2},{:.4},{}\n",
+            "{:.1},{},{:.2},{:.2},{},{:.2},{},{:.2},{:.4},{},{}\n",
             a.time_s,
             a.robot,
             a.x_m,
@@ -130,6 +130,7 @@ fn allocations_csv(allocations: &[usar_team::Allocation]) -> Vec<u8> {
             a.path_m,
             a.utility,
             a.ideal_robots,
+            a.room_known.map_or(String::new(), |f| format!("{f:.3}")),
         ));
     }
     out.into_bytes()
