@@ -11,6 +11,9 @@ const RETRACE_S: f64 = 1.0;
 const RETRACE_M: f64 = 0.5;
 /// How many of its latest motions a robot remembers for retracing (30 s at the 0.1 s step).
 const TRAIL_STEPS: usize = 300;
+/// Repeated retraces double in length at most this many times (32 × the first: beyond the
+/// remembered trail for any robot).
+const MAX_DOUBLINGS: u32 = 5;
 /// How long each of the [`ESCAPES`] is tried, simulated seconds, by a robot whose speeds do
 /// not clip it; a slower robot keeps at each for longer (see [`Recovery::for_robot`]).
 const ESCAPE_S: f64 = 1.0;
@@ -50,11 +53,21 @@ const ESCAPES: [Velocity; 6] = [
 /// first: it came that way, so that way is free — even out of a gap between furniture too
 /// narrow to turn in, where backing straight and turning on the spot both bump. Then it plans
 /// again. Retracing continues, at the next bump, from where the last one stopped.
+///
+/// A bump soon after a recovery ended (within the time to turn half round and retrace again)
+/// means that recovery did not free the robot: the next retrace lasts twice as long, and so on
+/// up to the whole remembered trail. Otherwise a slow robot wedged in a bend undoes, at each
+/// retrace, little more than the turn that bumped it, and turns and bumps there for ever.
 #[derive(Clone, Debug)]
 pub struct Recovery {
     /// How long to retrace and to try each escape, seconds (from the robot's speeds).
     retrace_s: f64,
     escape_s: f64,
+    /// A bump within this long of the last recovery's end repeats it (see the type's doc).
+    repeat_within_s: f64,
+    /// When the last manoeuvre ended, and how many retraces in a row it closed.
+    ended_s: f64,
+    repeats: u32,
     manoeuvre: Option<Manoeuvre>,
     /// The motions the robot made (`SimRobot::last_motion`), oldest first, without the
     /// retracing ones and without standstills.
@@ -79,12 +92,18 @@ pub enum RecoveryStep {
     Free,
 }
 
+/// The slowest turn rate [`Recovery::default`] is meant for, rad/s.
+const DEFAULT_TURN_RADPS: f64 = 0.8;
+
 impl Default for Recovery {
     /// Recovery for a robot that drives at least 0.5 m/s and turns at least 0.8 rad/s.
     fn default() -> Self {
         Self {
             retrace_s: RETRACE_S,
             escape_s: ESCAPE_S,
+            repeat_within_s: RETRACE_S + std::f64::consts::PI / DEFAULT_TURN_RADPS,
+            ended_s: f64::NEG_INFINITY,
+            repeats: 0,
             manoeuvre: None,
             trail: VecDeque::new(),
         }
@@ -106,9 +125,11 @@ impl Recovery {
                     .max(e.angular_radps.abs() / spec.max_angular_radps)
             })
             .fold(1.0, f64::max);
+        let retrace_s = RETRACE_S.max(RETRACE_M / spec.max_linear_mps);
         Self {
-            retrace_s: RETRACE_S.max(RETRACE_M / spec.max_linear_mps),
+            retrace_s,
             escape_s: ESCAPE_S * clip,
+            repeat_within_s: retrace_s + std::f64::consts::PI / spec.max_angular_radps,
             ..Self::default()
         }
     }
@@ -148,12 +169,20 @@ impl Recovery {
         let (next, step) = match self.manoeuvre {
             None if !in_contact => return RecoveryStep::Free,
             None => match self.trail.pop_back() {
-                Some(m) => (
-                    Manoeuvre::Retrace {
-                        until_s: now_s + self.retrace_s,
-                    },
-                    -m,
-                ),
+                Some(m) => {
+                    self.repeats = if now_s - self.ended_s <= self.repeat_within_s {
+                        (self.repeats + 1).min(MAX_DOUBLINGS)
+                    } else {
+                        0
+                    };
+                    let retrace_s = self.retrace_s * f64::from(1u32 << self.repeats);
+                    (
+                        Manoeuvre::Retrace {
+                            until_s: now_s + retrace_s,
+                        },
+                        -m,
+                    )
+                }
                 None => escape(0),
             },
             Some(Manoeuvre::Retrace { until_s }) => {
@@ -164,8 +193,7 @@ impl Recovery {
                 {
                     (Manoeuvre::Retrace { until_s }, -m)
                 } else {
-                    self.manoeuvre = None;
-                    return RecoveryStep::Ended;
+                    return self.end(now_s);
                 }
             }
             Some(Manoeuvre::Escape { escape: k, until_s }) if now_s < until_s => {
@@ -176,13 +204,16 @@ impl Recovery {
                     (Manoeuvre::Escape { escape: k, until_s }, ESCAPES[k])
                 }
             }
-            Some(Manoeuvre::Escape { .. }) => {
-                self.manoeuvre = None;
-                return RecoveryStep::Ended;
-            }
+            Some(Manoeuvre::Escape { .. }) => return self.end(now_s),
         };
         self.manoeuvre = Some(next);
         RecoveryStep::Escape(step)
+    }
+
+    fn end(&mut self, now_s: f64) -> RecoveryStep {
+        self.manoeuvre = None;
+        self.ended_s = now_s;
+        RecoveryStep::Ended
     }
 }
 

@@ -76,14 +76,30 @@ fn a_robot_that_bumps_at_the_end_of_a_bent_slot_too_narrow_to_turn_in_backs_out_
 }
 
 #[test]
-fn a_slow_robot_retraces_as_far_as_a_fast_one_and_backs_out_too() {
+fn a_slow_robot_retraces_as_far_as_a_fast_one_and_backs_out_sooner() {
     // The wheeled robot at 0.6 × its speeds: recovery manoeuvres timed for 0.5 m/s undo too
-    // little of its motion to get it out; timed for its own speeds, they do.
+    // little of its motion at each bump; timed for its own speeds, it is out sooner.
     let spec = RobotSpec {
         max_linear_mps: 0.3,
         max_angular_radps: 0.72,
         ..RobotSpec::wheeled()
     };
-    assert!(backs_out_of_the_bent_slot(spec.clone(), Recovery::default()).is_none());
+    let fixed = backs_out_of_the_bent_slot(spec.clone(), Recovery::default()).unwrap();
+    let own = backs_out_of_the_bent_slot(spec.clone(), Recovery::for_robot(&spec)).unwrap();
+    assert!(
+        own < fixed,
+        "{own} s with its own timing, {fixed} s with the fixed one"
+    );
+}
+
+#[test]
+fn a_very_slow_robot_backs_out_too_because_each_failed_recovery_retraces_twice_as_far() {
+    // The wheeled robot at paper 002's pace (0.3 × its speeds): a retrace of 0.5 m undoes
+    // little more than the turn that bumped it in the bend; repeated, the retraces lengthen.
+    let spec = RobotSpec {
+        max_linear_mps: 0.15,
+        max_angular_radps: 0.36,
+        ..RobotSpec::wheeled()
+    };
     assert!(backs_out_of_the_bent_slot(spec.clone(), Recovery::for_robot(&spec)).is_some());
 }
