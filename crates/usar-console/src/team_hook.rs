@@ -635,7 +635,7 @@ impl MissionHook for ConsoleHook {
                     continue;
                 }
                 // After a bump the team's own recovery, then the path again.
-                recovery.record(r.last_motion());
+                recovery.record(r.last_motion(), mission.simulation().config().dt_s);
                 *command = match recovery.step(self.sim_s, r.in_contact()) {
                     RecoveryStep::Escape(v) => v,
                     RecoveryStep::Ended | RecoveryStep::Free => follower.command(r.pose, &r.spec),

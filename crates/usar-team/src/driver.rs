@@ -54,19 +54,18 @@ const ESCAPES: [Velocity; 6] = [
 /// narrow to turn in, where backing straight and turning on the spot both bump. Then it plans
 /// again. Retracing continues, at the next bump, from where the last one stopped.
 ///
-/// A bump soon after a recovery ended (within the time to turn half round and retrace again)
-/// means that recovery did not free the robot: the next retrace lasts twice as long, and so on
-/// up to the whole remembered trail. Otherwise a slow robot wedged in a bend undoes, at each
-/// retrace, little more than the turn that bumped it, and turns and bumps there for ever.
+/// A bump before the robot drove [`RETRACE_M`] since the last recovery ended means that
+/// recovery did not free it: the next retrace lasts twice as long, and so on up to the whole
+/// remembered trail. Otherwise a slow robot wedged in a bend undoes, at each retrace, little
+/// more than the turn on the spot that bumped it, and turns and bumps there for ever.
 #[derive(Clone, Debug)]
 pub struct Recovery {
     /// How long to retrace and to try each escape, seconds (from the robot's speeds).
     retrace_s: f64,
     escape_s: f64,
-    /// A bump within this long of the last recovery's end repeats it (see the type's doc).
-    repeat_within_s: f64,
-    /// When the last manoeuvre ended, and how many retraces in a row it closed.
-    ended_s: f64,
+    /// Distance driven since the last manoeuvre ended, metres, and how many retraces in a row
+    /// did not free the robot.
+    driven_m: f64,
     repeats: u32,
     manoeuvre: Option<Manoeuvre>,
     /// The motions the robot made (`SimRobot::last_motion`), oldest first, without the
@@ -92,17 +91,13 @@ pub enum RecoveryStep {
     Free,
 }
 
-/// The slowest turn rate [`Recovery::default`] is meant for, rad/s.
-const DEFAULT_TURN_RADPS: f64 = 0.8;
-
 impl Default for Recovery {
     /// Recovery for a robot that drives at least 0.5 m/s and turns at least 0.8 rad/s.
     fn default() -> Self {
         Self {
             retrace_s: RETRACE_S,
             escape_s: ESCAPE_S,
-            repeat_within_s: RETRACE_S + std::f64::consts::PI / DEFAULT_TURN_RADPS,
-            ended_s: f64::NEG_INFINITY,
+            driven_m: f64::INFINITY,
             repeats: 0,
             manoeuvre: None,
             trail: VecDeque::new(),
@@ -125,11 +120,9 @@ impl Recovery {
                     .max(e.angular_radps.abs() / spec.max_angular_radps)
             })
             .fold(1.0, f64::max);
-        let retrace_s = RETRACE_S.max(RETRACE_M / spec.max_linear_mps);
         Self {
-            retrace_s,
+            retrace_s: RETRACE_S.max(RETRACE_M / spec.max_linear_mps),
             escape_s: ESCAPE_S * clip,
-            repeat_within_s: retrace_s + std::f64::consts::PI / spec.max_angular_radps,
             ..Self::default()
         }
     }
@@ -144,12 +137,15 @@ impl Recovery {
         self.manoeuvre = None;
     }
 
-    /// Remembers the motion the robot made this step (`SimRobot::last_motion`); call it after
-    /// every simulation step.
-    pub fn record(&mut self, motion: Velocity) {
+    /// Remembers the motion the robot made this step of `dt_s` seconds
+    /// (`SimRobot::last_motion`); call it after every simulation step.
+    pub fn record(&mut self, motion: Velocity, dt_s: f64) {
         let retracing = matches!(self.manoeuvre, Some(Manoeuvre::Retrace { .. }));
         if retracing || motion == Velocity::default() {
             return;
+        }
+        if self.manoeuvre.is_none() {
+            self.driven_m += motion.linear_mps.abs() * dt_s;
         }
         if self.trail.len() == TRAIL_STEPS {
             self.trail.pop_front();
@@ -170,7 +166,7 @@ impl Recovery {
             None if !in_contact => return RecoveryStep::Free,
             None => match self.trail.pop_back() {
                 Some(m) => {
-                    self.repeats = if now_s - self.ended_s <= self.repeat_within_s {
+                    self.repeats = if self.driven_m < RETRACE_M {
                         (self.repeats + 1).min(MAX_DOUBLINGS)
                     } else {
                         0
@@ -193,7 +189,7 @@ impl Recovery {
                 {
                     (Manoeuvre::Retrace { until_s }, -m)
                 } else {
-                    return self.end(now_s);
+                    return self.end();
                 }
             }
             Some(Manoeuvre::Escape { escape: k, until_s }) if now_s < until_s => {
@@ -204,15 +200,15 @@ impl Recovery {
                     (Manoeuvre::Escape { escape: k, until_s }, ESCAPES[k])
                 }
             }
-            Some(Manoeuvre::Escape { .. }) => return self.end(now_s),
+            Some(Manoeuvre::Escape { .. }) => return self.end(),
         };
         self.manoeuvre = Some(next);
         RecoveryStep::Escape(step)
     }
 
-    fn end(&mut self, now_s: f64) -> RecoveryStep {
+    fn end(&mut self) -> RecoveryStep {
         self.manoeuvre = None;
-        self.ended_s = now_s;
+        self.driven_m = 0.0;
         RecoveryStep::Ended
     }
 }

@@ -961,8 +961,9 @@ impl TeamMission {
                 .map(|(i, planned)| hook.command(i, planned))
                 .collect();
             self.sim.step(&commands);
+            let dt_s = self.sim.config().dt_s;
             for a in &mut self.agents {
-                a.recovery.record(self.sim.robot(a.id).last_motion());
+                a.recovery.record(self.sim.robot(a.id).last_motion(), dt_s);
             }
             if !hook.after_step(&mut self) {
                 finish = Finish::Stopped;

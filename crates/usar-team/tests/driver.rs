@@ -45,7 +45,7 @@ fn backs_out_of_the_bent_slot(spec: RobotSpec, mut recovery: Recovery) -> Option
             linear_mps: v,
             angular_radps: turning,
         }]);
-        recovery.record(sim.robot(id).last_motion());
+        recovery.record(sim.robot(id).last_motion(), sim.config().dt_s);
         assert!(sim.time_s() < 100.0, "never reached the dead end");
     }
     let end = sim.robot(id).pose;
@@ -61,7 +61,7 @@ fn backs_out_of_the_bent_slot(spec: RobotSpec, mut recovery: Recovery) -> Option
             RecoveryStep::Ended | RecoveryStep::Free => follower.command(r.pose, &spec),
         };
         sim.step(&[command]);
-        recovery.record(sim.robot(id).last_motion());
+        recovery.record(sim.robot(id).last_motion(), sim.config().dt_s);
         if sim.robot(id).pose.x < 1.6 {
             return Some(sim.time_s() - start);
         }
