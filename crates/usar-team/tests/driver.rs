@@ -103,3 +103,48 @@ fn a_very_slow_robot_backs_out_too_because_each_failed_recovery_retraces_twice_a
     };
     assert!(backs_out_of_the_bent_slot(spec.clone(), Recovery::for_robot(&spec)).is_some());
 }
+
+/// How many 0.1 s steps the retrace started by a bump at `now_s` lasts (the robot is free of
+/// contact while it retraces).
+fn retrace_steps(recovery: &mut Recovery, now_s: &mut f64) -> usize {
+    let mut steps = 0;
+    let mut contact = true;
+    while let RecoveryStep::Escape(v) = recovery.step(*now_s, contact) {
+        recovery.record(v, 0.1);
+        contact = false;
+        steps += 1;
+        *now_s += 0.1;
+    }
+    steps
+}
+
+#[test]
+fn a_retrace_doubles_after_a_recovery_that_did_not_free_the_robot_and_not_after_one_that_did() {
+    let forward = Velocity {
+        linear_mps: 0.5,
+        angular_radps: 0.0,
+    };
+    let turn = Velocity {
+        linear_mps: 0.0,
+        angular_radps: 0.8,
+    };
+    let mut recovery = Recovery::default();
+    let mut now = 0.0;
+    for _ in 0..200 {
+        recovery.record(forward, 0.1);
+    }
+    // A first bump retraces 1 s; turning on the spot and bumping again, 2 s, then 4 s.
+    let first = retrace_steps(&mut recovery, &mut now);
+    assert!((10..=11).contains(&first), "{first} steps");
+    recovery.record(turn, 0.1);
+    let second = retrace_steps(&mut recovery, &mut now);
+    assert!(second.abs_diff(2 * first) <= 2, "{second} after {first}");
+    recovery.record(turn, 0.1);
+    let third = retrace_steps(&mut recovery, &mut now);
+    assert!(third.abs_diff(4 * first) <= 4, "{third} after {first}");
+    // Having driven 1 m away, a bump is a new one: 1 s again.
+    for _ in 0..20 {
+        recovery.record(forward, 0.1);
+    }
+    assert!(retrace_steps(&mut recovery, &mut now).abs_diff(first) <= 1);
+}
