@@ -65,8 +65,8 @@ pub struct Allocation {
     /// i(p) (1 under SR).
     pub ideal_robots: usize,
     /// How much of the candidate's room the team's map knew at the auction, 0 to 1 (None when
-    /// the candidate lies in no room): S-MCDM sending robots to rooms already 80 % known, for
-    /// the frontiers furniture shadows, shows here.
+    /// the candidate lies in no room). It shows a strategy sending robots back to rooms already
+    /// mostly seen, for the small frontiers that furniture shadows leave.
     pub room_known: Option<f64>,
 }
 
