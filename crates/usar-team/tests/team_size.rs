@@ -62,7 +62,10 @@ fn crisp_team_sizes_follow_the_prose() {
         assert!(n <= last);
         last = n;
     }
+    // Whatever its size, doors and visibility, a room or corridor mostly seen: one.
+    assert_eq!(ideal_robots(&room, &[200.0, 4.0, 0.95, 0.9], 3), 1);
     let corridor = corridor_system();
+    assert_eq!(ideal_robots(&corridor, &[100.0, 8.0, 3.0, 0.9], 3), 1);
     assert_eq!(ideal_robots(&corridor, &[100.0, 8.0, 2.0, 0.0], 3), 3);
     assert_eq!(ideal_robots(&corridor, &[10.0, 1.0, 0.0, 0.9], 3), 1);
     assert!(ideal_robots(&corridor, &[100.0, 8.0, 2.0, 0.0], 4) == 4);
