@@ -22,11 +22,11 @@
 //! (walking back from x over cells one step nearer), so results do not depend on how the field
 //! was obtained.
 
+use crate::marks::Marks;
+
 /// A distance meaning "not reached" (any value ≥ [`UNREACHED`] is unreached; a row also
 /// holds `BLOCKED` for impassable cells).
 pub const UNREACHED: u16 = u16::MAX - 1;
-use crate::marks::Marks;
-
 /// Impassable cell, in a row.
 const BLOCKED: u16 = u16::MAX;
 const NONE: u32 = u32::MAX;

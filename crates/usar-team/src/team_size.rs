@@ -76,13 +76,19 @@ fn perceived() -> Variable {
     )
 }
 
-/// Every combination of three-level antecedents, consequent from `score`.
+/// Every combination of three-level antecedents. The last input is AlreadyPercArea: at
+/// [`MOSTLY_PERCEIVED`] the consequent is the lowest, whatever the rest; otherwise it comes
+/// from `consequent`.
 fn rules(inputs: usize, consequent: impl Fn(&[usize]) -> usize) -> Vec<Rule> {
     (0..3usize.pow(inputs as u32))
         .map(|k| {
             let levels: Vec<usize> = (0..inputs).map(|i| k / 3usize.pow(i as u32) % 3).collect();
             Rule {
-                consequent: consequent(&levels),
+                consequent: if levels[inputs - 1] == MOSTLY_PERCEIVED {
+                    0
+                } else {
+                    consequent(&levels)
+                },
                 antecedents: levels,
             }
         })
@@ -122,9 +128,6 @@ pub fn room_system() -> Mamdani {
         output: output(&["LOW", "MEDIUM", "HIGH"]),
         output_range: (0.0, 4.0),
         rules: rules(4, |l| {
-            if l[3] == MOSTLY_PERCEIVED {
-                return 0;
-            }
             let score = (l[0] + l[1] + l[2]) as i64 - l[3] as i64;
             match score {
                 ..=0 => 0,
@@ -168,9 +171,6 @@ pub fn corridor_system() -> Mamdani {
         output: output(&["LOW", "MEDIUM", "HIGH", "VERY_HIGH"]),
         output_range: (0.0, 5.0),
         rules: rules(4, |l| {
-            if l[3] == MOSTLY_PERCEIVED {
-                return 0;
-            }
             let score = 2 * l[0] as i64 + l[1] as i64 + l[2] as i64 - 3 * l[3] as i64;
             match score {
                 ..=0 => 0,

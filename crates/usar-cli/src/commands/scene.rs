@@ -40,12 +40,13 @@ fn generate(args: SceneGenArgs) -> CmdResult {
         (_, None) => usar_world::generate::generate(scene_source::kind(args.kind), args.seed),
         (GeneratorKind::Office | GeneratorKind::Mall, Some(share)) => {
             use usar_world::generate::{BuildingParams, generate_mall, generate_office};
-            let office = args.kind == GeneratorKind::Office;
-            let defaults = if office {
-                BuildingParams::office()
-            } else {
-                BuildingParams::mall()
-            };
+            type Generator = fn(u64, &BuildingParams) -> usar_world::Scene;
+            let (defaults, generate): (BuildingParams, Generator) =
+                if args.kind == GeneratorKind::Office {
+                    (BuildingParams::office(), generate_office)
+                } else {
+                    (BuildingParams::mall(), generate_mall)
+                };
             let params = BuildingParams {
                 furniture_fraction: share,
                 ..defaults
@@ -53,11 +54,7 @@ fn generate(args: SceneGenArgs) -> CmdResult {
             params
                 .check()
                 .map_err(|e| bad_input(anyhow::anyhow!("--furniture: {e}")))?;
-            if office {
-                generate_office(args.seed, &params)
-            } else {
-                generate_mall(args.seed, &params)
-            }
+            generate(args.seed, &params)
         }
         (kind, Some(_)) => {
             return Err(bad_input(anyhow::anyhow!(
