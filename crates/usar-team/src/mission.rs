@@ -33,6 +33,9 @@ const STUCK_DISTANCE_M: f64 = 0.2;
 const STUCK_WINDOW_S: f64 = 4.0;
 /// A candidate a robot got stuck on is not given to it again for this long.
 const BLACKLIST_S: f64 = 30.0;
+/// Rounds of bidding again, within one auction, for robots whose won target has no path on the
+/// map: the bid grid is coarser than the map and may join what the map does not.
+const REBID_ROUNDS: usize = 8;
 /// A candidate a robot reached is not given to it again for this long.
 const REACHED_BLACKLIST_S: f64 = 20.0;
 /// Commitment: at a periodic reassignment, a candidate within this distance (cells) of the
@@ -441,9 +444,19 @@ impl TeamMission {
 
     /// Reassigns targets to the robots in `who` (all robots at a periodic auction, or those
     /// that reached their target or got stuck).
-    fn assign(&mut self, who: &[usize]) -> bool {
+    fn assign(&mut self, who: &[usize]) {
         if self.config.exploration.strategy != Strategy::Nearest {
-            return self.auction(who);
+            let mut unplanned = self.auction(who);
+            for _ in 0..REBID_ROUNDS {
+                if unplanned.is_empty() {
+                    break;
+                }
+                unplanned = self.auction(&unplanned);
+            }
+            for i in unplanned {
+                self.idle(i);
+            }
+            return;
         }
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
@@ -516,13 +529,11 @@ impl TeamMission {
             costs.push(row);
         }
         let chosen = assign_nearest(&costs);
-        let mut any = false;
         for (k, &i) in who.iter().enumerate() {
             let agent = &mut self.agents[i];
             match chosen[k] {
                 Some(c) => {
                     let target = cands[c].cell;
-                    any = true;
                     if agent.target == Some(target) && !agent.follower.is_empty() {
                         continue;
                     }
@@ -544,7 +555,6 @@ impl TeamMission {
             let agent = &mut self.agents[i];
             agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
         }
-        any
     }
 
     /// Robot `i` got nothing: it stops, retracing its way once if it may.
@@ -590,8 +600,10 @@ impl TeamMission {
     /// Paper 002's auction (§3.3) for the robots in `who`: candidates from the frontier
     /// clusters, each bidding robot's path lengths and times on the coarse bid grid, bids by
     /// the strategy, allocation by the coordination method (robots not bidding keep their
-    /// targets and count towards i(p)), then a path on the map to each new target.
-    fn auction(&mut self, who: &[usize]) -> bool {
+    /// targets and count towards i(p)), then a path on the map to each new target. Returns
+    /// the robots whose won target has no path on the map (blacklisted for them now; the
+    /// caller lets them bid again).
+    fn auction(&mut self, who: &[usize]) -> Vec<usize> {
         let now = self.sim.time_s();
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
@@ -614,7 +626,7 @@ impl TeamMission {
             .filter(|&i| self.agents[i].linked && !self.sim.robot(self.agents[i].id).failed)
             .collect();
         if bidders.is_empty() {
-            return false;
+            return Vec::new();
         }
         self.visited.retain(|&(_, until)| until > now);
         let visited: Vec<bool> = cands
@@ -766,7 +778,7 @@ impl TeamMission {
             x.coordination,
             x.discount,
         );
-        let mut any = false;
+        let mut unplanned = Vec::new();
         for (k, &i) in bidders.iter().enumerate() {
             match chosen[k] {
                 Some(c) => {
@@ -777,12 +789,10 @@ impl TeamMission {
                         .is_some_and(|t| t.chebyshev(target) <= KEPT_TARGET_CELLS)
                         && !agent.follower.is_empty()
                     {
-                        any = true;
                         continue;
                     }
                     match self.plan_path(i, target) {
                         Some(waypoints) => {
-                            any = true;
                             let info = &infos[c];
                             self.allocations.push(crate::outcome::Allocation {
                                 time_s: now,
@@ -813,7 +823,7 @@ impl TeamMission {
                         }
                         None => {
                             self.agents[i].blacklist.push((target, now + BLACKLIST_S));
-                            self.idle(i);
+                            unplanned.push(i);
                         }
                     }
                 }
@@ -822,7 +832,7 @@ impl TeamMission {
             let agent = &mut self.agents[i];
             agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
         }
-        any
+        unplanned
     }
 
     /// The room of a map cell, or of the nearest cell within two cells that has one (a
@@ -904,10 +914,11 @@ impl TeamMission {
         self.read_thermal();
         self.sample();
         let everyone: Vec<usize> = (0..self.agents.len()).collect();
+        // Nothing assigned yet ends the mission only by the idle rule below: the robots' first
+        // targets may have no path on the map (the coarser bid grid joins more), and the next
+        // auction offers them others.
+        self.assign(&everyone);
         let mut finish = Finish::TimeLimit;
-        if !self.assign(&everyone) {
-            finish = Finish::Explored;
-        }
         let mut step = 0u64;
         let mut idle_since: Option<f64> = None;
         while finish == Finish::TimeLimit && step < steps {

@@ -181,3 +181,30 @@ fn a_robot_whose_messages_are_all_lost_does_not_feed_the_map() {
         .run(|_| {});
     assert_eq!(out.explored_area_m2, 0.0);
 }
+
+#[test]
+fn a_team_whose_first_targets_have_no_path_on_the_map_bids_again_instead_of_stopping() {
+    // The generated office with 2 % furniture and 4 robots at 0.3 × the wheeled robot's speed:
+    // from the start corridor, S-MCDM's four best candidates lie beyond a doorway seen at a
+    // slant, joined to the robots on the coarse bid grid but not on the map.
+    let params = usar_world::generate::BuildingParams {
+        furniture_fraction: 0.02,
+        ..usar_world::generate::BuildingParams::office()
+    };
+    let scene = usar_world::generate::generate_office(1, &params);
+    let mut c = config(4, 0.5, Strategy::SMcdm, Coordination::Sr);
+    c.robot.max_linear_mps *= 0.3;
+    c.robot.max_angular_radps *= 0.3;
+    let out = TeamMission::new(Arc::new(scene), c, 1)
+        .expect("starts")
+        .run(|_| {});
+    assert_eq!(out.finish, Finish::TimeLimit, "ended at {} s", out.time_s);
+    assert!(
+        out.per_robot.iter().all(|r| r.distance_m > 1.0),
+        "{:?}",
+        out.per_robot
+            .iter()
+            .map(|r| r.distance_m)
+            .collect::<Vec<_>>()
+    );
+}
