@@ -33,9 +33,6 @@ const STUCK_DISTANCE_M: f64 = 0.2;
 const STUCK_WINDOW_S: f64 = 4.0;
 /// A candidate a robot got stuck on is not given to it again for this long.
 const BLACKLIST_S: f64 = 30.0;
-/// Rounds of bidding again, within one auction, for robots whose won target has no path on the
-/// map: the bid grid is coarser than the map and may join what the map does not.
-const REBID_ROUNDS: usize = 8;
 /// A candidate a robot reached is not given to it again for this long.
 const REACHED_BLACKLIST_S: f64 = 20.0;
 /// Commitment: at a periodic reassignment, a candidate within this distance (cells) of the
@@ -446,16 +443,7 @@ impl TeamMission {
     /// that reached their target or got stuck).
     fn assign(&mut self, who: &[usize]) {
         if self.config.exploration.strategy != Strategy::Nearest {
-            let mut unplanned = self.auction(who);
-            for _ in 0..REBID_ROUNDS {
-                if unplanned.is_empty() {
-                    break;
-                }
-                unplanned = self.auction(&unplanned);
-            }
-            for i in unplanned {
-                self.idle(i);
-            }
+            self.auction(who);
             return;
         }
         let clusters = self.base.clusters(self.config.min_cluster_cells);
@@ -600,10 +588,8 @@ impl TeamMission {
     /// Paper 002's auction (§3.3) for the robots in `who`: candidates from the frontier
     /// clusters, each bidding robot's path lengths and times on the coarse bid grid, bids by
     /// the strategy, allocation by the coordination method (robots not bidding keep their
-    /// targets and count towards i(p)), then a path on the map to each new target. Returns
-    /// the robots whose won target has no path on the map (blacklisted for them now; the
-    /// caller lets them bid again).
-    fn auction(&mut self, who: &[usize]) -> Vec<usize> {
+    /// targets and count towards i(p)), then a path on the map to each new target.
+    fn auction(&mut self, who: &[usize]) {
         let now = self.sim.time_s();
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
@@ -626,7 +612,7 @@ impl TeamMission {
             .filter(|&i| self.agents[i].linked && !self.sim.robot(self.agents[i].id).failed)
             .collect();
         if bidders.is_empty() {
-            return Vec::new();
+            return;
         }
         self.visited.retain(|&(_, until)| until > now);
         let visited: Vec<bool> = cands
@@ -778,7 +764,6 @@ impl TeamMission {
             x.coordination,
             x.discount,
         );
-        let mut unplanned = Vec::new();
         for (k, &i) in bidders.iter().enumerate() {
             match chosen[k] {
                 Some(c) => {
@@ -823,7 +808,7 @@ impl TeamMission {
                         }
                         None => {
                             self.agents[i].blacklist.push((target, now + BLACKLIST_S));
-                            unplanned.push(i);
+                            self.idle(i);
                         }
                     }
                 }
@@ -832,7 +817,6 @@ impl TeamMission {
             let agent = &mut self.agents[i];
             agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
         }
-        unplanned
     }
 
     /// The room of a map cell, or of the nearest cell within two cells that has one (a
