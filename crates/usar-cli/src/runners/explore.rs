@@ -69,9 +69,13 @@ pub(super) fn scene_for(
     Ok(scene)
 }
 
-/// The factors every team runner has: `scene`, `scene_seed`, `robots` (default `robots`) and
-/// `robot`.
-pub(super) fn scene_and_team_factors(scene_help: &str, robots: i64) -> Vec<FactorSpec> {
+/// The factors every team runner has: `scene`, `scene_seed`, `robots` and `robot` (defaults
+/// `robots` and `robot`).
+pub(super) fn scene_and_team_factors(
+    scene_help: &str,
+    robots: i64,
+    robot: &str,
+) -> Vec<FactorSpec> {
     vec![
         factor(
             "scene",
@@ -97,8 +101,8 @@ pub(super) fn scene_and_team_factors(scene_help: &str, robots: i64) -> Vec<Facto
         factor(
             "robot",
             FactorKind::Text { choices: vec![] },
-            Level::Text("wheeled".into()),
-            "robot model: crawler, wheeled or a robot TOML file",
+            Level::Text(robot.into()),
+            "robot model: crawler, wheeled, wheeled-paper-pace or a robot TOML file",
         ),
     ]
 }
@@ -140,6 +144,7 @@ impl Runner for ExploreRunner {
         let mut factors = scene_and_team_factors(
             "a generator name (office, mall, rubble, course) or a scene/map file",
             4,
+            "wheeled",
         );
         factors.extend([
             factor(

@@ -68,7 +68,7 @@ impl TeamRunner {
         let range = config.float("radio_range_m").unwrap_or(0.0);
         TeamSetup {
             robots: config.int("robots").unwrap_or(6) as usize,
-            robot: config.text("robot").unwrap_or("wheeled"),
+            robot: config.text("robot").unwrap_or("wheeled-paper-pace"),
             strategy: config.text("strategy").unwrap_or("s-mcdm"),
             coordination: config.text("coordination").unwrap_or("sr"),
             hypothesis: config.text("hypothesis").unwrap_or("big"),
@@ -112,6 +112,7 @@ impl Runner for TeamRunner {
         let mut factors = scene_and_team_factors(
             "office or mall (generated with scene_seed), or a scene file (segmented if it has no room layer)",
             6,
+            "wheeled-paper-pace",
         );
         factors.extend([
             text(
