@@ -684,7 +684,7 @@ pub struct TeamRunArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Robot model: crawler, wheeled, wheeled-paper-pace (the wheeled robot at 0.3 × its
-    /// speeds, where D-MCDM's total area matches paper 002's Table 5), or a robot TOML file.
+    /// speeds, near the pace of paper 002's robots), or a robot TOML file.
     #[arg(long, default_value = "wheeled-paper-pace")]
     pub robot: String,
     /// Semantic errors (paper 002 §4.4): `perfect`, `random:RATE` (each classification wrong
