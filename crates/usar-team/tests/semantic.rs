@@ -193,8 +193,7 @@ fn a_team_whose_first_targets_have_no_path_on_the_map_bids_again_instead_of_stop
     };
     let scene = usar_world::generate::generate_office(1, &params);
     let mut c = config(4, 0.5, Strategy::SMcdm, Coordination::Sr);
-    c.robot.max_linear_mps *= 0.3;
-    c.robot.max_angular_radps *= 0.3;
+    c.robot = usar_sim::RobotSpec::wheeled_paper_pace();
     let out = TeamMission::new(Arc::new(scene), c, 1)
         .expect("starts")
         .run(|_| {});
