@@ -184,9 +184,9 @@ fn a_robot_whose_messages_are_all_lost_does_not_feed_the_map() {
 
 #[test]
 fn a_team_whose_first_targets_have_no_path_on_the_map_bids_again_instead_of_stopping() {
-    // The generated office with 2 % furniture and 4 robots at 0.3 × the wheeled robot's speed:
-    // from the start corridor, S-MCDM's four best candidates lie beyond a doorway seen at a
-    // slant, joined to the robots on the coarse bid grid but not on the map.
+    // The generated office with 2 % furniture and 4 robots at the paper's pace: from the start
+    // corridor, S-MCDM's four best candidates lie beyond a doorway seen at a slant, joined to the
+    // robots on the coarse bid grid but not on the map. They wait for the next auction.
     let params = usar_world::generate::BuildingParams {
         furniture_fraction: 0.02,
         ..usar_world::generate::BuildingParams::office()
