@@ -7,6 +7,10 @@ use usar_team::criteria::Hypothesis;
 use usar_team::semantic_map::LabelErrors;
 use usar_team::{Exploration, Radio, RobotFailure, Strategy, TeamConfig};
 
+/// The robot of a team run when none is named: the wheeled robot at paper 002's pace
+/// ([`usar_sim::RobotSpec::wheeled_paper_pace`]).
+pub const DEFAULT_ROBOT: &str = "wheeled-paper-pace";
+
 /// One paper-002 run, by name.
 #[derive(Clone, Debug)]
 pub struct TeamSetup<'a> {

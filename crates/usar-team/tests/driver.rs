@@ -69,16 +69,6 @@ fn backs_out_of_the_bent_slot(spec: RobotSpec, mut recovery: Recovery) -> Option
     None
 }
 
-/// The wheeled robot with its linear and angular speed limits scaled by `pace`.
-fn wheeled_at(pace: f64) -> RobotSpec {
-    let spec = RobotSpec::wheeled();
-    RobotSpec {
-        max_linear_mps: spec.max_linear_mps * pace,
-        max_angular_radps: spec.max_angular_radps * pace,
-        ..spec
-    }
-}
-
 #[test]
 fn a_robot_that_bumps_at_the_end_of_a_bent_slot_too_narrow_to_turn_in_backs_out_the_way_it_came() {
     let spec = RobotSpec::wheeled();
@@ -89,7 +79,11 @@ fn a_robot_that_bumps_at_the_end_of_a_bent_slot_too_narrow_to_turn_in_backs_out_
 fn a_slow_robot_retraces_as_far_as_a_fast_one_and_backs_out_sooner() {
     // The wheeled robot at 0.6 × its speeds: recovery manoeuvres timed for 0.5 m/s undo too
     // little of its motion at each bump; timed for its own speeds, it is out sooner.
-    let spec = wheeled_at(0.6);
+    let spec = RobotSpec {
+        max_linear_mps: 0.3,
+        max_angular_radps: 0.72,
+        ..RobotSpec::wheeled()
+    };
     let fixed = backs_out_of_the_bent_slot(spec.clone(), Recovery::default()).unwrap();
     let own = backs_out_of_the_bent_slot(spec.clone(), Recovery::for_robot(&spec)).unwrap();
     assert!(
@@ -102,7 +96,7 @@ fn a_slow_robot_retraces_as_far_as_a_fast_one_and_backs_out_sooner() {
 fn a_very_slow_robot_backs_out_too_because_each_failed_recovery_retraces_twice_as_far() {
     // The wheeled robot at paper 002's pace (0.3 × its speeds): a retrace of 0.5 m undoes
     // little more than the turn that bumped it in the bend; repeated, the retraces lengthen.
-    let spec = wheeled_at(0.3);
+    let spec = RobotSpec::wheeled_paper_pace();
     assert!(backs_out_of_the_bent_slot(spec.clone(), Recovery::for_robot(&spec)).is_some());
 }
 

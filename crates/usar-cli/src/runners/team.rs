@@ -1,7 +1,7 @@
 //! Runner `team`: paper 002's semantically-informed exploration (one `usar team run`).
 
 use super::explore::{enough_start_poses, factor, metric, scene_and_team_factors, scene_for};
-use crate::team_setup::TeamSetup;
+use crate::team_setup::{DEFAULT_ROBOT, TeamSetup};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use usar_campaign::{
@@ -68,7 +68,7 @@ impl TeamRunner {
         let range = config.float("radio_range_m").unwrap_or(0.0);
         TeamSetup {
             robots: config.int("robots").unwrap_or(6) as usize,
-            robot: config.text("robot").unwrap_or("wheeled-paper-pace"),
+            robot: config.text("robot").unwrap_or(DEFAULT_ROBOT),
             strategy: config.text("strategy").unwrap_or("s-mcdm"),
             coordination: config.text("coordination").unwrap_or("sr"),
             hypothesis: config.text("hypothesis").unwrap_or("big"),
@@ -112,7 +112,7 @@ impl Runner for TeamRunner {
         let mut factors = scene_and_team_factors(
             "office or mall (generated with scene_seed), or a scene file (segmented if it has no room layer)",
             6,
-            "wheeled-paper-pace",
+            DEFAULT_ROBOT,
         );
         factors.extend([
             text(
