@@ -19,7 +19,7 @@ use usar_map::planning::{DistanceField, GridAStar, NavGrid};
 use usar_map::{OccupancyGrid, OccupancyParams};
 use usar_sim::sensors::{HeatTruth, LaserScan};
 use usar_sim::{PlacementError, RobotId, Simulation, Velocity, derive_seed};
-use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene};
+use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_angle};
 
 /// Random streams of the team (robots use streams 0, 1, … of the simulation's seed).
 const SEMANTIC_STREAM: u64 = 1 << 20;
@@ -28,8 +28,12 @@ const RADIO_STREAM: u64 = (1 << 20) + 2;
 /// Fraction of the relevant area whose time is reported when no stop target is set (§4.4).
 const DEFAULT_RELEVANT_TARGET: f64 = 0.9;
 
-/// A robot is stuck when it moved less than this in [`STUCK_WINDOW_S`] while it had a target.
+/// A robot is stuck when, while it had a target, it moved less than [`STUCK_DISTANCE_M`] and
+/// turned less than [`STUCK_TURN_RAD`] in [`STUCK_WINDOW_S`]. Turning counts as progress: a
+/// robot at paper 002's pace (0.36 rad/s) needs almost 9 s to turn round in place towards a
+/// target behind it.
 const STUCK_DISTANCE_M: f64 = 0.2;
+const STUCK_TURN_RAD: f64 = 0.35;
 const STUCK_WINDOW_S: f64 = 4.0;
 /// A candidate a robot got stuck on is not given to it again for this long.
 const BLACKLIST_S: f64 = 30.0;
@@ -96,8 +100,8 @@ struct Agent {
     scan: LaserScan,
     follower: PathFollower,
     target: Option<Cell>,
-    /// Position and time of the last progress check.
-    progress_mark: (Point2, f64),
+    /// Pose and time of the last progress check.
+    progress_mark: (Pose2, f64),
     blacklist: Vec<(Cell, f64)>,
     trajectory: Vec<Point2>,
     /// Path costs from the robot, reused between assignments (nearest-frontier strategy).
@@ -268,7 +272,7 @@ impl TeamMission {
                 scan: LaserScan::default(),
                 follower: PathFollower::default(),
                 target: None,
-                progress_mark: (pose.position(), 0.0),
+                progress_mark: (pose, 0.0),
                 blacklist: Vec::new(),
                 trajectory: vec![pose.position()],
                 field: DistanceField::new(),
@@ -541,7 +545,7 @@ impl TeamMission {
                 None => self.idle(i),
             }
             let agent = &mut self.agents[i];
-            agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
+            agent.progress_mark = (self.sim.robot(agent.id).pose, now);
         }
     }
 
@@ -815,7 +819,7 @@ impl TeamMission {
                 None => self.idle(i),
             }
             let agent = &mut self.agents[i];
-            agent.progress_mark = (self.sim.robot(agent.id).pose.position(), now);
+            agent.progress_mark = (self.sim.robot(agent.id).pose, now);
         }
     }
 
@@ -990,7 +994,11 @@ impl TeamMission {
                 }
                 let done = a.follower.is_done(r.pose);
                 if a.target.is_some() && !done && now - a.progress_mark.1 >= STUCK_WINDOW_S {
-                    if r.pose.position().distance(a.progress_mark.0) < STUCK_DISTANCE_M {
+                    let (mark, _) = a.progress_mark;
+                    let turned = normalize_angle(r.pose.theta - mark.theta).abs();
+                    if r.pose.position().distance(mark.position()) < STUCK_DISTANCE_M
+                        && turned < STUCK_TURN_RAD
+                    {
                         a.blacklist
                             .push((a.target.expect("has target"), now + BLACKLIST_S));
                         a.follower = PathFollower::default();
@@ -998,7 +1006,7 @@ impl TeamMission {
                         who.push(i);
                         continue;
                     }
-                    a.progress_mark = (r.pose.position(), now);
+                    a.progress_mark = (r.pose, now);
                 }
                 if a.escaping {
                     if done {

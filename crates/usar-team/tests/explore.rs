@@ -101,6 +101,25 @@ fn a_room_behind_a_gap_narrower_than_the_robot_does_not_keep_the_mission_running
 }
 
 #[test]
+fn a_slow_robot_turning_round_towards_its_only_frontier_is_not_taken_for_stuck() {
+    // A 40 m corridor; the robot stands at x = 30 m facing east, so its 20 m laser leaves only
+    // the west end unknown, behind it. At 0.36 rad/s it turns in place for almost 9 s before it
+    // moves: a stuck test on distance alone gave up that frontier after 4 s, and with nothing
+    // else to do the mission ended as explored with the west end unknown.
+    let scene = walled_floor(40.0, 4.0, &[], Pose2::new(30.0, 2.0, 0.0));
+    let config = TeamConfig {
+        robots: 1,
+        duration_s: 900.0,
+        robot: usar_sim::RobotSpec::wheeled_paper_pace(),
+        ..TeamConfig::default()
+    };
+    let out = run(scene, config, 1);
+    assert_eq!(out.finish, Finish::Explored, "ran for {} s", out.time_s);
+    assert!(out.coverage > 0.95, "coverage {}", out.coverage);
+    assert!(out.per_robot[0].distance_m > 10.0);
+}
+
+#[test]
 fn a_team_covers_a_small_office_and_the_run_is_a_pure_function_of_its_inputs() {
     let config = TeamConfig {
         robots: 3,
