@@ -692,6 +692,11 @@ pub struct TeamRunArgs {
     /// FRACTION of the room is known).
     #[arg(long, default_value = "perfect")]
     pub label_errors: String,
+    /// Candidate locations of the auctions: `room` (one per room, its whole frontier; corridors
+    /// keep one per frontier cluster) or `cluster` (one per frontier cluster, as paper 002 §3.1
+    /// has it; a furnished room then has one behind each piece of furniture).
+    #[arg(long, default_value = "room")]
+    pub candidates: String,
     /// Stop once this fraction of the relevant area is known (e.g. 0.9).
     #[arg(long)]
     pub stop_at_relevant: Option<f64>,

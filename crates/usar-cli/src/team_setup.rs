@@ -4,6 +4,7 @@
 
 use usar_team::coordination::Coordination;
 use usar_team::criteria::Hypothesis;
+use usar_team::room_candidates::CandidateGrouping;
 use usar_team::semantic_map::LabelErrors;
 use usar_team::{Exploration, Radio, RobotFailure, Strategy, TeamConfig};
 
@@ -21,6 +22,7 @@ pub struct TeamSetup<'a> {
     pub hypothesis: &'a str,
     pub minutes: f64,
     pub label_errors: &'a str,
+    pub candidates: &'a str,
     pub stop_at_relevant: Option<f64>,
     pub merge_period_s: f64,
     pub radio: Radio,
@@ -48,6 +50,12 @@ impl TeamSetup<'_> {
                 self.hypothesis
             )
         })?;
+        let candidates = CandidateGrouping::from_name(self.candidates).ok_or_else(|| {
+            format!(
+                "candidates: found {:?}, expected room or cluster",
+                self.candidates
+            )
+        })?;
         if !(self.minutes.is_finite() && self.minutes > 0.0) {
             return Err(format!(
                 "minutes: found {}, expected a positive number",
@@ -67,6 +75,7 @@ impl TeamSetup<'_> {
             coordination,
             hypothesis,
             label_errors: LabelErrors::parse(self.label_errors)?,
+            candidates,
             ..Exploration::default()
         };
         let mut config = TeamConfig::paper_002(self.robots, self.minutes, exploration);

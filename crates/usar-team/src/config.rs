@@ -3,6 +3,7 @@
 use crate::coordination::{Coordination, DiscountParams};
 use crate::criteria::Hypothesis;
 use crate::mcdm::{MeasureSpec, d_mcdm_table_1, s_mcdm_table_1};
+use crate::room_candidates::CandidateGrouping;
 use crate::semantic_map::LabelErrors;
 use serde::{Deserialize, Serialize};
 use usar_sim::{RobotSpec, SimConfig};
@@ -67,6 +68,9 @@ pub struct Exploration {
     pub max_robots_per_candidate: usize,
     /// Semantic perception errors (§4.4).
     pub label_errors: LabelErrors,
+    /// How the auctions' candidate locations come from frontier clusters: one per room
+    /// (default) or one per cluster, as §3.1 has it (see `room_candidates`).
+    pub candidates: CandidateGrouping,
     /// Bids price paths on a grid this many map cells a side per cell (path lengths for b(p, r)
     /// and the Distance strategy); the path a robot drives is planned on the map itself.
     pub bid_grid_factor: usize,
@@ -87,6 +91,7 @@ impl Default for Exploration {
             discount: DiscountParams::default(),
             max_robots_per_candidate: 3,
             label_errors: LabelErrors::Perfect,
+            candidates: CandidateGrouping::Room,
             bid_grid_factor: 2,
             commitment_bonus: 0.1,
         }

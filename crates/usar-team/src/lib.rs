@@ -24,6 +24,7 @@ mod mission;
 mod outcome;
 pub mod paper_run;
 pub mod report;
+pub mod room_candidates;
 pub mod scene_prep;
 pub mod semantic_map;
 pub mod team_size;

@@ -9,6 +9,7 @@ use crate::config::{Strategy, TeamConfig};
 use crate::driver::{PathFollower, Recovery, RecoveryStep};
 use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
+use crate::room_candidates::{CandidateGrouping, ClusterCandidate, group_by_room};
 use crate::semantic_map::SemanticMap;
 use crate::travel_time::TravelTimes;
 use rand::{Rng, SeedableRng};
@@ -590,14 +591,15 @@ impl TeamMission {
     }
 
     /// Paper 002's auction (§3.3) for the robots in `who`: candidates from the frontier
-    /// clusters, each bidding robot's path lengths and times on the coarse bid grid, bids by
-    /// the strategy, allocation by the coordination method (robots not bidding keep their
-    /// targets and count towards i(p)), then a path on the map to each new target.
+    /// clusters, each bidding robot's path lengths and times on the coarse bid grid, one
+    /// candidate per room ([`CandidateGrouping::Room`]), bids by the strategy, allocation by the
+    /// coordination method (robots not bidding keep their targets and count towards i(p)), then
+    /// a path on the map to each new target.
     fn auction(&mut self, who: &[usize]) {
         let now = self.sim.time_s();
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
-        let cands: Vec<Candidate> = {
+        let mut cands: Vec<Candidate> = {
             let merged = &self.base.merged;
             let nav = &self.base.navigable_tight;
             candidates(
@@ -628,12 +630,12 @@ impl TeamMission {
             })
             .collect();
         // What is known of each candidate: room, perceived label, i(p).
-        let rooms: Vec<Option<usize>> = cands.iter().map(|c| self.room_near(c.cell)).collect();
+        let mut rooms: Vec<Option<usize>> = cands.iter().map(|c| self.room_near(c.cell)).collect();
         let labels: Vec<Option<RoomLabel>> = rooms
             .iter()
             .map(|r| r.map(|k| self.semantic.perceived_label(k)))
             .collect();
-        let infos: Vec<crate::criteria::CandidateInfo> = cands
+        let mut infos: Vec<crate::criteria::CandidateInfo> = cands
             .iter()
             .zip(&rooms)
             .zip(&labels)
@@ -647,7 +649,7 @@ impl TeamMission {
         let sr = self.config.exploration.coordination == crate::coordination::Coordination::Sr;
         // i(p) depends on the room, its perceived label and how much of it is known: inferred
         // again only when the label or the known fraction changed since the room's last one.
-        let ideal: Vec<usize> = rooms
+        let mut ideal: Vec<usize> = rooms
             .iter()
             .zip(&labels)
             .map(|(&r, &label)| {
@@ -729,6 +731,38 @@ impl TeamMission {
                 })
                 .collect();
             travel.push(row);
+        }
+        if self.config.exploration.candidates == CandidateGrouping::Room {
+            let clusters: Vec<ClusterCandidate> = (0..cands.len())
+                .map(|c| ClusterCandidate {
+                    position: infos[c].position,
+                    frontier_cells: cands[c].frontier_cells,
+                    room: rooms[c]
+                        .filter(|&k| self.semantic.rooms()[k].label != RoomLabel::Corridor),
+                    reachable_by: travel.iter().filter(|row| row[c].is_some()).count(),
+                })
+                .collect();
+            let groups = group_by_room(&clusters);
+            let keep: Vec<usize> = groups.iter().map(|&(c, _)| c).collect();
+            cands = groups
+                .iter()
+                .map(|&(c, cells)| Candidate {
+                    frontier_cells: cells,
+                    ..cands[c].clone()
+                })
+                .collect();
+            infos = groups
+                .iter()
+                .map(|&(c, cells)| crate::criteria::CandidateInfo {
+                    frontier_cells: cells,
+                    ..infos[c].clone()
+                })
+                .collect();
+            rooms = pick(&rooms, &keep);
+            ideal = pick(&ideal, &keep);
+            for row in &mut travel {
+                *row = pick(row, &keep);
+            }
         }
         let mut bids = crate::bids::bids(
             self.config.exploration.strategy,
@@ -1123,6 +1157,11 @@ impl TeamMission {
 }
 
 /// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
+/// The elements of `v` at `keep`, in that order.
+fn pick<T: Clone>(v: &[T], keep: &[usize]) -> Vec<T> {
+    keep.iter().map(|&k| v[k].clone()).collect()
+}
+
 fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
     cands
         .iter()

@@ -4,10 +4,12 @@
 use super::explore::small_office;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
+use std::collections::BTreeMap;
 use std::sync::Arc;
 use usar_map::{OccupancyGrid, OccupancyParams};
 use usar_team::coordination::{Coordination, DiscountParams, allocate_among};
 use usar_team::criteria::Hypothesis;
+use usar_team::room_candidates::CandidateGrouping;
 use usar_team::semantic_map::{LabelErrors, SemanticMap};
 use usar_team::{Exploration, Finish, RobotFailure, Strategy, TeamConfig, TeamMission};
 use usar_world::RoomLabel;
@@ -206,4 +208,37 @@ fn a_team_whose_first_targets_have_no_path_on_the_map_bids_again_instead_of_stop
             .map(|r| r.distance_m)
             .collect::<Vec<_>>()
     );
+}
+
+/// The most new allocations one auction made into one room (not a corridor), over a run.
+fn most_robots_sent_into_one_room(candidates: CandidateGrouping) -> usize {
+    let scene = small_office();
+    let mut c = config(6, 4.0, Strategy::SMcdm, Coordination::Sr);
+    c.exploration.candidates = candidates;
+    let out = TeamMission::new(Arc::new(scene.clone()), c, 2)
+        .expect("starts")
+        .run(|_| {});
+    let mut per_auction: BTreeMap<(u64, u16), usize> = BTreeMap::new();
+    for a in &out.allocations {
+        let cell = scene
+            .geometry()
+            .world_to_cell(usar_world::Point2::new(a.x_m, a.y_m));
+        let id = scene.room_id[cell];
+        let corridor = scene
+            .rooms
+            .iter()
+            .any(|r| r.id == id && r.label == RoomLabel::Corridor);
+        if id != 0 && !corridor {
+            *per_auction.entry((a.time_s.to_bits(), id)).or_default() += 1;
+        }
+    }
+    per_auction.values().copied().max().unwrap_or(0)
+}
+
+#[test]
+fn with_a_candidate_per_room_an_sr_auction_sends_one_robot_into_a_room() {
+    // Per frontier cluster, a furnished room offers one candidate behind each piece of
+    // furniture, and one SR auction sends several robots into it.
+    assert!(most_robots_sent_into_one_room(CandidateGrouping::Cluster) >= 2);
+    assert_eq!(most_robots_sent_into_one_room(CandidateGrouping::Room), 1);
 }

@@ -32,6 +32,7 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
         hypothesis: &args.hypothesis,
         minutes: args.minutes,
         label_errors: &args.label_errors,
+        candidates: &args.candidates,
         stop_at_relevant: args.stop_at_relevant,
         merge_period_s: args.merge_period,
         radio: Radio {

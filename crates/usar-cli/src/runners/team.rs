@@ -74,6 +74,7 @@ impl TeamRunner {
             hypothesis: config.text("hypothesis").unwrap_or("big"),
             minutes: config.float("minutes").unwrap_or(20.0),
             label_errors: config.text("label_errors").unwrap_or("perfect"),
+            candidates: config.text("candidates").unwrap_or("room"),
             stop_at_relevant: config.float("stop_at_relevant").filter(|&f| f > 0.0),
             merge_period_s: config.float("merge_period_s").unwrap_or(2.5),
             radio: Radio {
@@ -138,6 +139,12 @@ impl Runner for TeamRunner {
                 "perfect",
                 &[],
                 "perfect, random:RATE or until-known:FRACTION (paper 002 §4.4)",
+            ),
+            text(
+                "candidates",
+                "room",
+                &["room", "cluster"],
+                "candidate locations: one per room, or one per frontier cluster (paper 002 §3.1)",
             ),
             float("minutes", 20.0, 1440.0, "simulated time limit"),
             float(
