@@ -732,6 +732,8 @@ impl TeamMission {
                 .collect();
             travel.push(row);
         }
+        // One candidate per room (`room_candidates`): from here on, each group's representative
+        // stands for its room's whole frontier.
         if self.config.exploration.candidates == CandidateGrouping::Room {
             let clusters: Vec<ClusterCandidate> = (0..cands.len())
                 .map(|c| ClusterCandidate {
@@ -743,19 +745,19 @@ impl TeamMission {
                 })
                 .collect();
             let groups = group_by_room(&clusters);
-            let keep: Vec<usize> = groups.iter().map(|&(c, _)| c).collect();
+            let keep: Vec<usize> = groups.iter().map(|g| g.representative).collect();
             cands = groups
                 .iter()
-                .map(|&(c, cells)| Candidate {
-                    frontier_cells: cells,
-                    ..cands[c].clone()
+                .map(|g| Candidate {
+                    frontier_cells: g.frontier_cells,
+                    ..cands[g.representative].clone()
                 })
                 .collect();
             infos = groups
                 .iter()
-                .map(|&(c, cells)| crate::criteria::CandidateInfo {
-                    frontier_cells: cells,
-                    ..infos[c].clone()
+                .map(|g| crate::criteria::CandidateInfo {
+                    frontier_cells: g.frontier_cells,
+                    ..infos[g.representative].clone()
                 })
                 .collect();
             rooms = pick(&rooms, &keep);

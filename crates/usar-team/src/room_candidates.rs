@@ -50,12 +50,22 @@ pub struct ClusterCandidate {
     pub reachable_by: usize,
 }
 
-/// One candidate per room: for each group, in order of first appearance, the index of its
-/// representative and the frontier cells of the whole group.
+/// The cluster candidates of one room (or one candidate alone), as one candidate.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RoomGroup {
+    /// The member that stands for the group.
+    pub representative: usize,
+    /// Frontier cells of all members: A(p) of the group.
+    pub frontier_cells: usize,
+    /// Indices of the members, ascending.
+    pub members: Vec<usize>,
+}
+
+/// One candidate per room: the groups, in order of their first member.
 ///
 /// The representative is the member most bidders can reach. Ties go to the member nearest the
 /// group's centroid, weighted by frontier length, then to the lower index.
-pub fn group_by_room(clusters: &[ClusterCandidate]) -> Vec<(usize, usize)> {
+pub fn group_by_room(clusters: &[ClusterCandidate]) -> Vec<RoomGroup> {
     let mut groups: Vec<(Option<usize>, Vec<usize>)> = Vec::new();
     for (k, c) in clusters.iter().enumerate() {
         match c
@@ -89,7 +99,11 @@ pub fn group_by_room(clusters: &[ClusterCandidate]) -> Vec<(usize, usize)> {
                         .then(a.cmp(&b))
                 })
                 .expect("a group has a member");
-            (representative, cells)
+            RoomGroup {
+                representative,
+                frontier_cells: cells,
+                members,
+            }
         })
         .collect()
 }
@@ -118,7 +132,14 @@ mod tests {
         ];
         // Room 3's centroid lies at x = (0·10 + 4·10 + 1·20) / 40 = 1.5: the member at x = 1.
         // The two clusters outside rooms (or in corridors) stay apart.
-        assert_eq!(group_by_room(&c), vec![(4, 40), (1, 7), (3, 9)]);
+        let groups: Vec<(usize, usize, Vec<usize>)> = group_by_room(&c)
+            .into_iter()
+            .map(|g| (g.representative, g.frontier_cells, g.members))
+            .collect();
+        assert_eq!(
+            groups,
+            vec![(4, 40, vec![0, 2, 4]), (1, 7, vec![1]), (3, 9, vec![3])]
+        );
     }
 
     #[test]
@@ -129,13 +150,13 @@ mod tests {
             cand(10.0, 10, Some(1), 6),
         ];
         // The centroid (x = 5) is on the middle one, and so is the best reach.
-        assert_eq!(group_by_room(&c), vec![(1, 30)]);
+        assert_eq!(group_by_room(&c)[0].representative, 1);
         let c = [
             cand(0.0, 10, Some(1), 6),
             cand(5.0, 10, Some(1), 2),
             cand(10.0, 10, Some(1), 6),
         ];
         // Centred but reachable by fewer: the nearest of the best reached, ties to the lower.
-        assert_eq!(group_by_room(&c), vec![(0, 30)]);
+        assert_eq!(group_by_room(&c)[0].representative, 0);
     }
 }
