@@ -387,4 +387,8 @@ fn team_run_prints_relevant_and_total_area_every_minute() {
         &usar(&["team", "run", "--label-errors", "random:2", "--json"]),
         "expected a fraction in [0, 1]",
     );
+    assert_bad_input(
+        &usar(&["team", "run", "--candidates", "rooms", "--json"]),
+        "--candidates: found \"rooms\", expected room or cluster",
+    );
 }
