@@ -52,9 +52,9 @@ pub fn bids(
                 .map(|t| t.map(|t| t.length_m))
                 .collect();
             let u = normalize(&flat, Sense::Cost);
-            u.chunks(candidates.len().max(1))
-                .take(travel.len())
-                .map(<[Option<f64>]>::to_vec)
+            let n = candidates.len();
+            (0..travel.len())
+                .map(|r| u[r * n..(r + 1) * n].to_vec())
                 .collect()
         }
         Strategy::DMcdm | Strategy::SMcdm => {

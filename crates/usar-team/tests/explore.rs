@@ -153,3 +153,33 @@ fn more_robots_than_start_poses_is_an_error() {
         .expect("fails");
     assert!(err.to_string().contains("1 start poses, 2 robots"), "{err}");
 }
+
+#[test]
+fn an_auctioned_team_ends_a_closed_room_without_candidates_left() {
+    // Once the room is known no candidate is left: every strategy must find none to bid on,
+    // not index a bid row that is not there.
+    for strategy in [
+        usar_team::Strategy::Random,
+        usar_team::Strategy::Distance,
+        usar_team::Strategy::DMcdm,
+        usar_team::Strategy::SMcdm,
+    ] {
+        let scene = walled_floor(10.0, 7.0, &[], Pose2::new(2.0, 3.5, 0.0));
+        let config = TeamConfig {
+            robots: 1,
+            duration_s: 600.0,
+            exploration: usar_team::Exploration {
+                strategy,
+                ..usar_team::Exploration::default()
+            },
+            ..TeamConfig::default()
+        };
+        let out = run(scene, config, 1);
+        assert_eq!(
+            out.finish,
+            Finish::Explored,
+            "{strategy:?} at {} s",
+            out.time_s
+        );
+    }
+}
