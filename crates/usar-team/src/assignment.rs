@@ -11,7 +11,7 @@ use usar_world::Cell;
 pub struct Candidate {
     /// The navigable cell the robot drives to.
     pub cell: Cell,
-    /// Frontier cells of its cluster.
+    /// Frontier cells of its cluster (of its room's clusters, once grouped by room).
     pub frontier_cells: usize,
 }
 

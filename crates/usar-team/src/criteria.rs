@@ -87,7 +87,7 @@ impl Hypothesis {
 #[derive(Clone, Debug, PartialEq)]
 pub struct CandidateInfo {
     pub position: Point2,
-    /// Frontier length, cells.
+    /// Frontier length, cells: the cluster's, or the whole room's with one candidate per room.
     pub frontier_cells: usize,
     pub label: Option<RoomLabel>,
     pub doors: usize,

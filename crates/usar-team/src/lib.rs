@@ -6,8 +6,8 @@
 //! Two ways to hand out candidates: the baseline explorer (`Strategy::Nearest`: each robot to
 //! its nearest candidate, one robot per candidate; what `demo` and `explore` run), and paper
 //! 002's auctions (every 5 s and when a robot arrives) with the Random, Distance, D-MCDM or
-//! S-MCDM strategy and SR, MRv1 or MRv2 coordination, over one candidate per room
-//! (`room_candidates`), on a semantic map whose labels may be perceived with errors; the mission
+//! S-MCDM strategy and SR, MRv1 or MRv2 coordination, over one candidate per room by default
+//! (`room_candidates`; one per frontier cluster as §3.1 has it on request), on a semantic map whose labels may be perceived with errors; the mission
 //! then also measures the explored relevant area. Maps
 //! without a room layer get one from `usar_map::segmentation` (`scene_prep`).
 

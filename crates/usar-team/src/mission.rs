@@ -35,6 +35,9 @@ const DEFAULT_RELEVANT_TARGET: f64 = 0.9;
 /// target behind it.
 const STUCK_DISTANCE_M: f64 = 0.2;
 const STUCK_TURN_RAD: f64 = 0.35;
+/// Turning counts as progress for one full turn at most while the robot stays put: one that
+/// spins on the spot is stuck too.
+const MAX_TURN_IN_PLACE_RAD: f64 = std::f64::consts::TAU;
 const STUCK_WINDOW_S: f64 = 4.0;
 /// A candidate a robot got stuck on is not given to it again for this long.
 const BLACKLIST_S: f64 = 30.0;
@@ -63,8 +66,9 @@ const VISITED_BLACKLIST_S: f64 = 60.0;
 /// after robot to the same corridor for the whole mission; the paper's mapping is error-free
 /// (§3.1) and has no such frontiers.
 const UNOBSERVABLE_RADIUS_M: f64 = 2.0;
-/// A robot keeping its target occupies the candidate within this many map cells of it, and a
-/// robot allocated a candidate this near its target keeps its path.
+/// A robot keeping its target occupies the candidate within this many map cells of it (with one
+/// candidate per room, that candidate's room), and a robot allocated a candidate this near its
+/// target (or its target's room) keeps its path.
 const KEPT_TARGET_CELLS: i32 = 5;
 /// A target that needed this many recoveries is given up (blacklisted) like a stuck one.
 const MAX_RECOVERIES: u32 = 3;
@@ -103,6 +107,8 @@ struct Agent {
     target: Option<Cell>,
     /// Pose and time of the last progress check.
     progress_mark: (Pose2, f64),
+    /// Turning at the checks since the robot last moved [`STUCK_DISTANCE_M`], radians.
+    turned_in_place_rad: f64,
     blacklist: Vec<(Cell, f64)>,
     trajectory: Vec<Point2>,
     /// Path costs from the robot, reused between assignments (nearest-frontier strategy).
@@ -274,6 +280,7 @@ impl TeamMission {
                 follower: PathFollower::default(),
                 target: None,
                 progress_mark: (pose, 0.0),
+                turned_in_place_rad: 0.0,
                 blacklist: Vec::new(),
                 trajectory: vec![pose.position()],
                 field: DistanceField::new(),
@@ -733,9 +740,12 @@ impl TeamMission {
             travel.push(row);
         }
         // One candidate per room (`room_candidates`): from here on, each group's representative
-        // stands for its room's whole frontier.
+        // stands for its room's whole frontier. A robot's target still belongs to the group of
+        // the cluster candidate it was (`candidate_of`), wherever the group's representative is.
+        let ungrouped = cands.clone();
+        let mut group_of: Vec<usize> = (0..cands.len()).collect();
         if self.config.exploration.candidates == CandidateGrouping::Room {
-            let clusters: Vec<ClusterCandidate> = (0..cands.len())
+            let members: Vec<ClusterCandidate> = (0..cands.len())
                 .map(|c| ClusterCandidate {
                     position: infos[c].position,
                     frontier_cells: cands[c].frontier_cells,
@@ -744,7 +754,12 @@ impl TeamMission {
                     reachable_by: travel.iter().filter(|row| row[c].is_some()).count(),
                 })
                 .collect();
-            let groups = group_by_room(&clusters);
+            let groups = group_by_room(&members);
+            for (k, g) in groups.iter().enumerate() {
+                for &m in &g.members {
+                    group_of[m] = k;
+                }
+            }
             let keep: Vec<usize> = groups.iter().map(|g| g.representative).collect();
             cands = groups
                 .iter()
@@ -766,6 +781,7 @@ impl TeamMission {
                 *row = pick(row, &keep);
             }
         }
+        let candidate_of = |t: Cell| nearest_candidate(&ungrouped, t).map(|(k, _)| group_of[k]);
         let mut bids = crate::bids::bids(
             self.config.exploration.strategy,
             &self.measures,
@@ -778,7 +794,7 @@ impl TeamMission {
         let bonus = self.config.exploration.commitment_bonus;
         for (row, &i) in bids.iter_mut().zip(&bidders) {
             if let Some(t) = self.agents[i].target
-                && let Some((k, _)) = nearest_candidate(&cands, t)
+                && let Some(k) = candidate_of(t)
                 && let Some(u) = row[k].as_mut()
             {
                 *u += bonus;
@@ -791,7 +807,7 @@ impl TeamMission {
                 continue;
             }
             if let Some(t) = a.target
-                && let Some((k, _)) = nearest_candidate(&cands, t)
+                && let Some(k) = candidate_of(t)
             {
                 already[k] += 1;
             }
@@ -809,10 +825,11 @@ impl TeamMission {
                 Some(c) => {
                     let target = cands[c].cell;
                     let agent = &self.agents[i];
-                    if agent
-                        .target
-                        .is_some_and(|t| t.chebyshev(target) <= KEPT_TARGET_CELLS)
-                        && !agent.follower.is_empty()
+                    // Allocated what it is heading for (the same spot, or its target's room):
+                    // it keeps its path.
+                    if agent.target.is_some_and(|t| {
+                        t.chebyshev(target) <= KEPT_TARGET_CELLS || candidate_of(t) == Some(c)
+                    }) && !agent.follower.is_empty()
                     {
                         continue;
                     }
@@ -1031,10 +1048,18 @@ impl TeamMission {
                 let done = a.follower.is_done(r.pose);
                 if a.target.is_some() && !done && now - a.progress_mark.1 >= STUCK_WINDOW_S {
                     let (mark, _) = a.progress_mark;
+                    let moved = r.pose.position().distance(mark.position()) >= STUCK_DISTANCE_M;
                     let turned = normalize_angle(r.pose.theta - mark.theta).abs();
-                    if r.pose.position().distance(mark.position()) < STUCK_DISTANCE_M
-                        && turned < STUCK_TURN_RAD
+                    a.turned_in_place_rad = if moved {
+                        0.0
+                    } else {
+                        a.turned_in_place_rad + turned
+                    };
+                    if !moved
+                        && (turned < STUCK_TURN_RAD
+                            || a.turned_in_place_rad > MAX_TURN_IN_PLACE_RAD)
                     {
+                        a.turned_in_place_rad = 0.0;
                         a.blacklist
                             .push((a.target.expect("has target"), now + BLACKLIST_S));
                         a.follower = PathFollower::default();
@@ -1158,12 +1183,12 @@ impl TeamMission {
     }
 }
 
-/// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
 /// The elements of `v` at `keep`, in that order.
 fn pick<T: Clone>(v: &[T], keep: &[usize]) -> Vec<T> {
     keep.iter().map(|&k| v[k].clone()).collect()
 }
 
+/// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
 fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
     cands
         .iter()

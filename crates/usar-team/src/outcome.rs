@@ -56,7 +56,7 @@ pub struct Allocation {
     pub label: Option<RoomLabel>,
     /// S(p) under the hypothesis (raw, before normalisation).
     pub relevance: f64,
-    /// A(p): frontier length, cells.
+    /// A(p): frontier length, cells (the whole room's with one candidate per room).
     pub frontier_cells: usize,
     /// Path length priced for the bid, metres.
     pub path_m: f64,
