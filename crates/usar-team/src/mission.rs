@@ -1048,18 +1048,9 @@ impl TeamMission {
                 let done = a.follower.is_done(r.pose);
                 if a.target.is_some() && !done && now - a.progress_mark.1 >= STUCK_WINDOW_S {
                     let (mark, _) = a.progress_mark;
-                    let moved = r.pose.position().distance(mark.position()) >= STUCK_DISTANCE_M;
-                    let turned = normalize_angle(r.pose.theta - mark.theta).abs();
-                    a.turned_in_place_rad = if moved {
-                        0.0
-                    } else {
-                        a.turned_in_place_rad + turned
-                    };
-                    if !moved
-                        && (turned < STUCK_TURN_RAD
-                            || a.turned_in_place_rad > MAX_TURN_IN_PLACE_RAD)
-                    {
-                        a.turned_in_place_rad = 0.0;
+                    let (stuck, turned) = stuck_check(mark, r.pose, a.turned_in_place_rad);
+                    a.turned_in_place_rad = turned;
+                    if stuck {
                         a.blacklist
                             .push((a.target.expect("has target"), now + BLACKLIST_S));
                         a.follower = PathFollower::default();
@@ -1183,6 +1174,23 @@ impl TeamMission {
     }
 }
 
+/// The progress check of a robot with a target, [`STUCK_WINDOW_S`] after its `mark`: whether it
+/// is stuck, and its turning in place since it last moved (`turned_before` until this check).
+/// Moving [`STUCK_DISTANCE_M`] is progress; so is turning [`STUCK_TURN_RAD`], up to
+/// [`MAX_TURN_IN_PLACE_RAD`] in all while the robot stays put.
+fn stuck_check(mark: Pose2, now: Pose2, turned_before: f64) -> (bool, f64) {
+    if now.position().distance(mark.position()) >= STUCK_DISTANCE_M {
+        return (false, 0.0);
+    }
+    let turned = normalize_angle(now.theta - mark.theta).abs();
+    let total = turned_before + turned;
+    if turned < STUCK_TURN_RAD || total > MAX_TURN_IN_PLACE_RAD {
+        (true, 0.0)
+    } else {
+        (false, total)
+    }
+}
+
 /// The elements of `v` at `keep`, in that order.
 fn pick<T: Clone>(v: &[T], keep: &[usize]) -> Vec<T> {
     keep.iter().map(|&k| v[k].clone()).collect()
@@ -1292,4 +1300,32 @@ fn source_cells(merged: &OccupancyGrid, grid: &NavGrid, p: Point2, all: bool) ->
     }
     sources.sort();
     sources
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turning_round_in_place_is_progress_and_spinning_on_the_spot_is_not() {
+        let at = |x: f64, theta: f64| Pose2::new(x, 0.0, theta);
+        // Standing still: stuck.
+        assert_eq!(stuck_check(at(0.0, 0.0), at(0.05, 0.1), 0.0), (true, 0.0));
+        // Driving: progress, and the turning count starts again.
+        assert_eq!(stuck_check(at(0.0, 0.0), at(0.5, 0.0), 3.0), (false, 0.0));
+        // Turning round at 0.36 rad/s, 1.44 rad a window: progress for the ~9 s it takes.
+        let (stuck, turned) = stuck_check(at(0.0, 0.0), at(0.0, 1.44), 0.0);
+        assert!(!stuck);
+        let (stuck, turned) = stuck_check(at(0.0, 1.44), at(0.0, 2.88), turned);
+        assert!(!stuck && (turned - 2.88).abs() < 1e-9);
+        // Spinning on: stuck once the turning passes a full turn.
+        let (stuck, turned) = stuck_check(at(0.0, 2.88), at(0.0, 4.32), turned);
+        assert!(!stuck);
+        let (stuck, turned) = stuck_check(at(0.0, 4.32), at(0.0, 5.76), turned);
+        assert!(!stuck && turned < std::f64::consts::TAU);
+        assert_eq!(
+            stuck_check(at(0.0, 5.76), at(0.0, 7.2), turned),
+            (true, 0.0)
+        );
+    }
 }
