@@ -14,6 +14,11 @@
 //!
 //! Corridors keep one candidate per cluster. Their frontiers lie far apart, at the ends and
 //! at doorways, and a corridor is a way to rooms, not a place to cover.
+//!
+//! Which rooms are corridors comes from the room layer's own split (the scene's, or the room
+//! segmentation's), not from the perceived labels. Under §4.4's label errors, a corridor perceived
+//! as a room would otherwise merge its far-apart frontiers into one candidate. S(p) still uses
+//! the perceived label.
 
 use serde::{Deserialize, Serialize};
 use usar_world::Point2;
