@@ -80,8 +80,8 @@ impl RobotSpec {
 
     /// The wheeled robot at 0.3 × its speeds (0.15 m/s, 0.36 rad/s): paper 002's pace, the
     /// default of its team runs. The paper gives no speeds; at this pace D-MCDM + SR with 6
-    /// robots explores 2 537 m² of the generated office in 20 minutes (Table 5: 3 060 m²), where
-    /// at 0.5 m/s it explores 6 539 m², nearly the whole floor.
+    /// robots explores 3 424 m² of the generated office in 20 minutes (Table 5: 3 060 m²), where
+    /// at 0.5 m/s it explores 6 963 m², nearly the whole floor (`docs/paper-002-reproduction.md`).
     pub fn wheeled_paper_pace() -> Self {
         Self {
             name: "wheeled-paper-pace".into(),

@@ -761,20 +761,12 @@ impl TeamMission {
                 }
             }
             let keep: Vec<usize> = groups.iter().map(|g| g.representative).collect();
-            cands = groups
-                .iter()
-                .map(|g| Candidate {
-                    frontier_cells: g.frontier_cells,
-                    ..cands[g.representative].clone()
-                })
-                .collect();
-            infos = groups
-                .iter()
-                .map(|g| crate::criteria::CandidateInfo {
-                    frontier_cells: g.frontier_cells,
-                    ..infos[g.representative].clone()
-                })
-                .collect();
+            cands = pick(&cands, &keep);
+            infos = pick(&infos, &keep);
+            for ((c, info), g) in cands.iter_mut().zip(&mut infos).zip(&groups) {
+                c.frontier_cells = g.frontier_cells;
+                info.frontier_cells = g.frontier_cells;
+            }
             rooms = pick(&rooms, &keep);
             ideal = pick(&ideal, &keep);
             for row in &mut travel {

@@ -43,6 +43,20 @@ fn walled_floor(w: f64, h: f64, walls: &[(f64, f64, f64, f64)], start: Pose2) ->
     scene
 }
 
+/// A 10 × 7 m room with nothing in it, the robot near its west wall facing east.
+fn closed_room() -> Scene {
+    walled_floor(10.0, 7.0, &[], Pose2::new(2.0, 3.5, 0.0))
+}
+
+/// One robot for `duration_s`, the rest the default mission.
+fn one_robot(duration_s: f64) -> TeamConfig {
+    TeamConfig {
+        robots: 1,
+        duration_s,
+        ..TeamConfig::default()
+    }
+}
+
 /// A 32 × 22 m office (seed 3), small enough for quick missions.
 pub(super) fn small_office() -> Scene {
     // Rooms of the sizes a 32 × 22 m floor holds (the default office's big rooms are
@@ -59,13 +73,7 @@ pub(super) fn small_office() -> Scene {
 
 #[test]
 fn a_closed_room_is_explored_and_the_mission_ends_early() {
-    let scene = walled_floor(10.0, 7.0, &[], Pose2::new(2.0, 3.5, 0.0));
-    let config = TeamConfig {
-        robots: 1,
-        duration_s: 600.0,
-        ..TeamConfig::default()
-    };
-    let out = run(scene, config, 1);
+    let out = run(closed_room(), one_robot(600.0), 1);
     assert_eq!(
         out.finish,
         Finish::Explored,
@@ -84,12 +92,7 @@ fn a_room_behind_a_gap_narrower_than_the_robot_does_not_keep_the_mission_running
     // sees through the gap but cannot pass it.
     let walls = [(8.0, 0.0, 8.2, 3.35), (8.0, 3.65, 8.2, 7.0)];
     let scene = walled_floor(16.0, 7.0, &walls, Pose2::new(2.0, 3.5, 0.0));
-    let config = TeamConfig {
-        robots: 1,
-        duration_s: 1800.0,
-        ..TeamConfig::default()
-    };
-    let out = run(scene, config, 2);
+    let out = run(scene, one_robot(1800.0), 2);
     assert_ne!(out.finish, Finish::TimeLimit, "ran for {} s", out.time_s);
     assert!(out.time_s < 600.0, "took {} s", out.time_s);
     // The near half is known; the far half only where the laser reached through the gap.
@@ -108,10 +111,8 @@ fn a_slow_robot_turning_round_towards_its_only_frontier_is_not_taken_for_stuck()
     // else to do the mission ended as explored with the west end unknown.
     let scene = walled_floor(40.0, 4.0, &[], Pose2::new(30.0, 2.0, 0.0));
     let config = TeamConfig {
-        robots: 1,
-        duration_s: 900.0,
         robot: usar_sim::RobotSpec::wheeled_paper_pace(),
-        ..TeamConfig::default()
+        ..one_robot(900.0)
     };
     let out = run(scene, config, 1);
     assert_eq!(out.finish, Finish::Explored, "ran for {} s", out.time_s);
@@ -164,17 +165,14 @@ fn an_auctioned_team_ends_a_closed_room_without_candidates_left() {
         usar_team::Strategy::DMcdm,
         usar_team::Strategy::SMcdm,
     ] {
-        let scene = walled_floor(10.0, 7.0, &[], Pose2::new(2.0, 3.5, 0.0));
         let config = TeamConfig {
-            robots: 1,
-            duration_s: 600.0,
             exploration: usar_team::Exploration {
                 strategy,
                 ..usar_team::Exploration::default()
             },
-            ..TeamConfig::default()
+            ..one_robot(600.0)
         };
-        let out = run(scene, config, 1);
+        let out = run(closed_room(), config, 1);
         assert_eq!(
             out.finish,
             Finish::Explored,
