@@ -58,7 +58,7 @@ async fn connect_browser() -> (Driver, Client, tempfile::TempDir) {
         assert!(
             Path::new(path).exists(),
             "{path} is missing: the end-to-end console test needs Debian's {package} \
-             (apt-get install -y chromium chromium-driver; .ci/run installs it)"
+             (./test.sh installs them: apt-get install -y chromium chromium-driver)"
         );
     }
     let port = free_port();

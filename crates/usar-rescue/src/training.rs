@@ -54,6 +54,37 @@ impl Default for TrainConfig {
     }
 }
 
+/// The most trials one training run takes (paper 000 trains 1 800): a count is checked
+/// against it before anything is allocated, so a mistyped `4000000000` is refused at once
+/// instead of running for years or aborting on its curve's allocation.
+pub const MAX_TRIALS: u32 = 1_000_000;
+
+/// A training configuration that cannot run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TrainConfigError {
+    #[error("trials: found {found}, expected 1 to {max}")]
+    Trials { found: u32, max: u32 },
+}
+
+impl TrainConfig {
+    /// Checks the trial count (1 ..= [`MAX_TRIALS`]).
+    pub fn validate(&self) -> Result<(), TrainConfigError> {
+        check_trials(self.trials)
+    }
+}
+
+/// Checks a trial count against 1 ..= [`MAX_TRIALS`].
+pub fn check_trials(trials: u32) -> Result<(), TrainConfigError> {
+    if (1..=MAX_TRIALS).contains(&trials) {
+        Ok(())
+    } else {
+        Err(TrainConfigError::Trials {
+            found: trials,
+            max: MAX_TRIALS,
+        })
+    }
+}
+
 /// One trial of the learning curves.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TrialPoint {
@@ -169,7 +200,8 @@ pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, Tra
     let mut flat = SparseFlatQ::new(FLAT_ACTIONS.len(), config.params.clone());
     let mut maxq_rng = Pcg64Mcg::seed_from_u64(config.seed ^ 0x3A70_u64);
     let mut flat_rng = Pcg64Mcg::seed_from_u64(config.seed ^ 0xF1A7);
-    let mut curve = Vec::with_capacity(config.trials as usize);
+    // Grown as trials end: the count is the caller's, never an allocation size.
+    let mut curve = Vec::new();
     const BATCH: u32 = 32;
     let mut t0 = 0;
     while t0 < config.trials {

@@ -8,6 +8,7 @@ use std::f64::consts::{PI, TAU};
 
 /// A point in the world frame, metres.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Point2 {
     pub x: f64,
     pub y: f64,
@@ -43,6 +44,7 @@ impl Point2 {
 
 /// A planar pose: position and heading (radians, counter-clockwise from +x).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Pose2 {
     pub x: f64,
     pub y: f64,
@@ -95,6 +97,7 @@ pub fn normalize_angle(angle_rad: f64) -> f64 {
 
 /// An axis-aligned rectangle in world coordinates, metres.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Rect {
     pub min: Point2,
     pub max: Point2,

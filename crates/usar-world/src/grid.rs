@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// A cell address: column (x) and row (y), row 0 at the bottom.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Cell {
     pub col: i32,
     pub row: i32,
@@ -40,6 +41,7 @@ pub const NEIGHBORS8: [(i32, i32); 8] = [
 
 /// Size, resolution and placement of a grid in the world frame.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GridGeometry {
     /// Number of columns.
     pub width: u32,

@@ -24,6 +24,7 @@ pub mod generate;
 pub mod geometry;
 pub mod grid;
 pub mod io;
+pub mod limits;
 pub mod ray;
 pub mod render;
 pub mod scene;

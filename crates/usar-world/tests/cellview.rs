@@ -270,25 +270,6 @@ fn invalid_params_are_reported_with_their_field() {
     assert!(CellViewParams::default().validate(Path::new("v")).is_ok());
 }
 
-#[test]
-#[ignore = "timing, run with --release --ignored --nocapture"]
-fn cell_view_of_a_million_fine_cells_timing() {
-    let g = GridGeometry::new(1000, 1000, 0.1, Point2::new(0.0, 0.0));
-    let mut scene = Scene::empty("big", g);
-    for (i, z) in scene.floor_height_m.as_mut_slice().iter_mut().enumerate() {
-        *z = ((i * 7919) % 1000) as f32 * 1e-4 + ((i / 1000) % 97) as f32 * 0.01;
-    }
-    let params = CellViewParams::default();
-    let _ = CellView::from_scene(&scene, &params);
-    let runs = 10;
-    let t = std::time::Instant::now();
-    for _ in 0..runs {
-        std::hint::black_box(CellView::from_scene(&scene, &params));
-    }
-    let ms = t.elapsed().as_secs_f64() * 1e3 / f64::from(runs);
-    eprintln!("cell view of 1000×1000 fine cells: {ms:.1} ms");
-}
-
 proptest! {
     #[test]
     fn plane_fit_recovers_noise_free_planes(

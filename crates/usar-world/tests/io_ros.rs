@@ -536,19 +536,62 @@ fn yaml_missing_resolution_names_the_field() {
     );
 }
 
-#[test]
-fn yaml_with_a_rotated_origin_is_rejected() {
+/// The map of a 3×2 image with its bottom-left pixel black, read with `origin`.
+fn turned(origin: &str) -> Scene {
     let dir = tempfile::tempdir().unwrap();
-    write(dir.path(), "map.pgm", &p5(2, 2, &[]));
-    let yaml = write(
-        dir.path(),
-        "map.yaml",
-        GOOD_YAML.replace("0.0, 0.0]", "0.0, 0.3]").as_bytes(),
-    );
-    let msg = error_text(read_ros_map(&yaml));
+    write(dir.path(), "map.pgm", &p5(3, 2, &[(0, 1)]));
+    let yaml = GOOD_YAML.replace("[0.0, 0.0, 0.0]", origin);
+    read_ros_map(&write(dir.path(), "map.yaml", yaml.as_bytes())).unwrap()
+}
+
+#[test]
+fn a_map_turned_half_round_with_yaw_3_14_is_the_image_turned_exactly() {
+    // Real map repositories write 3.14 for π: the image turns about the origin, so it lies
+    // south-west of it, and its bottom-left pixel becomes the top-right cell.
+    let scene = turned("[1.0, 2.0, 3.14]");
+    let g = scene.geometry();
+    assert_eq!((g.width, g.height), (3, 2));
     assert!(
-        msg.contains("field `origin[2]`: found 0.3") && msg.contains("rotated"),
-        "{msg}"
+        (g.origin.x - 0.85).abs() < 1e-12 && (g.origin.y - 1.9).abs() < 1e-12,
+        "{g:?}"
+    );
+    let walls: Vec<Cell> = (0..g.len())
+        .map(|i| g.cell_of_index(i))
+        .filter(|&c| scene.is_obstacle(c))
+        .collect();
+    assert_eq!(walls, vec![Cell::new(2, 1)]);
+}
+
+#[test]
+fn a_quarter_turn_swaps_width_and_height() {
+    // +π/2: image x runs north, image y runs west. The bottom-left pixel stays at the origin's
+    // corner: the cell south-east of the turned grid.
+    let scene = turned("[0.0, 0.0, 1.5708]");
+    let g = scene.geometry();
+    assert_eq!((g.width, g.height), (2, 3));
+    assert!(
+        (g.origin.x + 0.1).abs() < 1e-12 && g.origin.y.abs() < 1e-12,
+        "{g:?}"
+    );
+    let walls: Vec<Cell> = (0..g.len())
+        .map(|i| g.cell_of_index(i))
+        .filter(|&c| scene.is_obstacle(c))
+        .collect();
+    assert_eq!(walls, vec![Cell::new(1, 0)]);
+}
+
+#[test]
+fn an_oblique_turn_covers_the_turned_image_and_walls_the_corners() {
+    let scene = turned("[0.0, 0.0, 0.5]");
+    let g = scene.geometry();
+    // Bounding box of a 3×2 rectangle turned by 0.5 rad: 3 cos + 2 sin ≈ 3.59, 3 sin + 2 cos ≈ 3.19.
+    assert_eq!((g.width, g.height), (4, 4));
+    let free = (0..g.len())
+        .filter(|&i| !scene.is_obstacle(g.cell_of_index(i)))
+        .count();
+    assert!(
+        (3..=6).contains(&free),
+        "{free} free cells of 5 free pixels"
     );
 }
 
@@ -576,5 +619,132 @@ fn write_ros_map_rejects_a_yaml_path_that_would_be_overwritten_by_the_image() {
     assert!(
         err.contains("x.pgm") && err.contains("must not end in .pgm"),
         "{err}"
+    );
+}
+
+/// A 1-bit greyscale PNG of `w`×`h` white pixels, built by hand (zlib stream of zero rows).
+fn one_bit_png(w: u32, h: u32) -> Vec<u8> {
+    use std::io::Write;
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+        out.extend((data.len() as u32).to_be_bytes());
+        let mut crc = flate2::Crc::new();
+        crc.update(kind);
+        crc.update(data);
+        out.extend(kind);
+        out.extend(data);
+        out.extend(crc.sum().to_be_bytes());
+    }
+    let mut ihdr = Vec::new();
+    ihdr.extend(w.to_be_bytes());
+    ihdr.extend(h.to_be_bytes());
+    ihdr.extend([1, 0, 0, 0, 0]); // bit depth 1, greyscale, deflate, no filter, no interlace
+    let row = vec![0xffu8; 1 + (w as usize).div_ceil(8)];
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
+    for _ in 0..h {
+        z.write_all(&[0]).unwrap();
+        z.write_all(&row[1..]).unwrap();
+    }
+    let idat = z.finish().unwrap();
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    chunk(&mut out, b"IHDR", &ihdr);
+    chunk(&mut out, b"IDAT", &idat);
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+#[test]
+fn a_small_png_declaring_400_million_pixels_is_refused_before_decoding() {
+    let dir = tempfile::tempdir().unwrap();
+    let small = write(dir.path(), "small.png", &one_bit_png(40, 30));
+    let opts = ImageMapOptions::default();
+    assert_eq!(
+        read_image_map(&small, &opts).unwrap().geometry().len(),
+        1200
+    );
+    let bomb = one_bit_png(20_000, 20_000);
+    assert!(bomb.len() < 200_000, "{} bytes", bomb.len());
+    let path = write(dir.path(), "bomb.png", &bomb);
+    let msg = error_text(read_image_map(&path, &opts));
+    assert!(
+        msg.contains("bomb.png") && msg.contains("20000×20000") && msg.contains("--max-cells"),
+        "{msg}"
+    );
+    // The same for a PGM header.
+    let pgm = write(dir.path(), "bomb.pgm", b"P5\n20000 20000\n255\n\x00");
+    assert!(error_text(read_image_map(&pgm, &opts)).contains("--max-cells"));
+}
+
+#[test]
+fn absurd_yaml_numbers_name_the_field_and_the_file() {
+    for (from, to, field) in [
+        ("[0.0, 0.0, 0.0]", "[1e308, -1e308, 0]", "origin"),
+        ("resolution: 0.05", "resolution: 1e300", "resolution"),
+        ("resolution: 0.05", "resolution: 1e-300", "resolution"),
+        ("[0.0, 0.0, 0.0]", "[0.0, 0.0, 1e300]", "origin[2]"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "map.pgm", &p5(4, 4, &[]));
+        let yaml = write(
+            dir.path(),
+            "map.yaml",
+            GOOD_YAML.replace(from, to).as_bytes(),
+        );
+        let msg = error_text(read_ros_map(&yaml));
+        assert!(
+            msg.contains("map.yaml") && msg.contains(&format!("field `{field}`")),
+            "{to}: {msg}"
+        );
+    }
+    // A YAML NaN is refused by the parser, at its place.
+    let dir = tempfile::tempdir().unwrap();
+    let yaml = GOOD_YAML.replace("[0.0, 0.0, 0.0]", "[0.0, .nan, 0]");
+    let msg = error_text(read_ros_map(&write(
+        dir.path(),
+        "map.yaml",
+        yaml.as_bytes(),
+    )));
+    assert!(
+        msg.contains("map.yaml: line 3") && msg.contains("non-finite"),
+        "{msg}"
+    );
+    // A map whose far corner leaves the ±1 000 km box, though its origin is inside it.
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "map.pgm", &p5(4, 4, &[]));
+    let yaml = GOOD_YAML.replace("[0.0, 0.0, 0.0]", "[999999.9, 0, 0]");
+    let msg = error_text(read_ros_map(&write(
+        dir.path(),
+        "map.yaml",
+        yaml.as_bytes(),
+    )));
+    assert!(msg.contains("field `origin`"), "{msg}");
+}
+
+#[test]
+fn deeply_nested_yaml_is_refused_at_once() {
+    // 100 000 nested `[` took 29 s with the old parser; the budget stops it at depth 32.
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("image: {}\n", "[".repeat(100_000));
+    let yaml = write(dir.path(), "deep.yaml", text.as_bytes());
+    let msg = error_text(read_ros_map(&yaml));
+    assert!(
+        msg.starts_with(&format!("{}: line", yaml.display())),
+        "{msg}"
+    );
+    assert_eq!(msg.lines().count(), 1, "{msg}");
+}
+
+#[cfg(unix)]
+#[test]
+fn an_image_that_never_ends_is_refused_at_the_file_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let yaml = GOOD_YAML.replace("image: map.pgm", "image: /dev/zero");
+    let msg = error_text(read_ros_map(&write(
+        dir.path(),
+        "map.yaml",
+        yaml.as_bytes(),
+    )));
+    assert!(
+        msg.contains("/dev/zero") && msg.contains("file size"),
+        "{msg}"
     );
 }

@@ -36,6 +36,9 @@ struct BenchReport {
     distance_field4_ms: f64,
     frontier_update_ms: f64,
     frontier_clusters_ms: f64,
+    /// Paper 000's cell view (§V: one cell per robot footprint, classified from the fine
+    /// heights) of the whole 1000 × 1000 floor.
+    cell_view_ms: f64,
     campaign_overhead_ms_per_run: f64,
     campaign_commit_alone_ms: f64,
     /// Paper 002: simulated ÷ wall time of one 20-minute run of 8 robots (S-MCDM + MRv1, big
@@ -313,6 +316,18 @@ pub fn run(args: BenchArgs) -> CmdResult {
     }
     let frontier_update_ms = median(updates);
     let frontier_clusters_ms = median(clusters);
+    let params = usar_world::cellview::CellViewParams::default();
+    let cell_view_ms = median(
+        (0..reps)
+            .map(|_| {
+                time_ms(|| {
+                    std::hint::black_box(usar_world::cellview::CellView::from_scene(
+                        &scene, &params,
+                    ));
+                })
+            })
+            .collect(),
+    );
     bar.inc(1);
     let (campaign_overhead_ms_per_run, campaign_commit_alone_ms) = campaign_overhead_ms()?;
     let (maxq_steps_per_s, maxq_steps_per_s_with_scene_generation) = maxq_training_speed();
@@ -343,6 +358,7 @@ pub fn run(args: BenchArgs) -> CmdResult {
         distance_field4_ms,
         frontier_update_ms,
         frontier_clusters_ms,
+        cell_view_ms,
         campaign_overhead_ms_per_run,
         maxq_steps_per_s,
         maxq_steps_per_s_with_scene_generation,
@@ -396,6 +412,10 @@ pub fn run(args: BenchArgs) -> CmdResult {
         println!(
             "  frontier clustering             {:>10.3} ms",
             report.frontier_clusters_ms
+        );
+        println!(
+            "  paper-000 cell view of the floor {:>9.2} ms",
+            report.cell_view_ms
         );
         println!(
             "  campaign engine, per no-op run  {:>10.3} ms       (target < 1)",

@@ -87,6 +87,9 @@ pub struct ImageMapOptions {
     pub resolution_m: f64,
     /// World position of the lower-left corner of the lower-left pixel (ROS `origin` x, y).
     pub origin: Point2,
+    /// Rotation of the image about `origin`, counter-clockwise, radians (ROS `origin` yaw).
+    /// A rotated image is turned on import into an axis-aligned grid (see [`rotate_obstacles`]).
+    pub yaw_rad: f64,
     /// True: dark pixels are free and light ones occupied (ROS `negate: 1`).
     pub negate: bool,
     /// Occupancy above which a pixel is occupied (ROS default 0.65).
@@ -104,6 +107,7 @@ impl Default for ImageMapOptions {
         Self {
             resolution_m: 0.1,
             origin: Point2::new(0.0, 0.0),
+            yaw_rad: 0.0,
             negate: false,
             occupied_thresh: 0.65,
             free_thresh: 0.196,
@@ -117,20 +121,14 @@ impl ImageMapOptions {
     /// Checks the options; errors name `path` and the ROS field (`resolution`, `origin`,
     /// `occupied_thresh`, `free_thresh`).
     pub fn validate(&self, path: &Path) -> Result<()> {
-        if !(self.resolution_m.is_finite() && self.resolution_m > 0.0) {
+        crate::scene::check_resolution(self.resolution_m, "resolution", path)?;
+        crate::scene::check_extent(self.origin, (0.0, 0.0), "origin", path)?;
+        if !(self.yaw_rad.is_finite() && self.yaw_rad.abs() <= 100.0) {
             return Err(WorldError::invalid(
                 path,
-                "resolution",
-                self.resolution_m,
-                "a positive number of metres per pixel",
-            ));
-        }
-        if !(self.origin.x.is_finite() && self.origin.y.is_finite()) {
-            return Err(WorldError::invalid(
-                path,
-                "origin",
-                format!("[{}, {}]", self.origin.x, self.origin.y),
-                "finite coordinates in metres",
+                "origin[2]",
+                self.yaw_rad,
+                "a yaw in radians (|yaw| ≤ 100)",
             ));
         }
         for (field, v) in [
@@ -299,13 +297,18 @@ pub fn decode_image(bytes: &[u8], path: &Path) -> Result<DecodedImage> {
 
 fn decode_png(bytes: &[u8], path: &Path) -> Result<DecodedImage> {
     use image::DynamicImage as D;
-    let image =
-        image::load_from_memory_with_format(bytes, image::ImageFormat::Png).map_err(|e| {
-            WorldError::Image {
-                path: path.display().to_string(),
-                message: e.to_string(),
-            }
-        })?;
+    use image::ImageDecoder as _;
+    let image_error = |e: image::ImageError| WorldError::Image {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    // The header's size is checked before a pixel is decoded: a 76 KB 1-bit PNG can declare
+    // 20 000 × 20 000 pixels.
+    let decoder =
+        image::codecs::png::PngDecoder::new(std::io::Cursor::new(bytes)).map_err(image_error)?;
+    let (width, height) = decoder.dimensions();
+    crate::limits::check_cells(path, "image size", width.into(), height.into())?;
+    let image = D::from_decoder(decoder).map_err(image_error)?;
     let (width, height) = (image.width(), image.height());
     let widen = |v: Vec<u8>| v.into_iter().map(u16::from).collect::<Vec<u16>>();
     let (maxval, colour_channels, has_alpha, samples) = match image {
@@ -459,6 +462,7 @@ fn decode_netpbm(bytes: &[u8], kind: u8, path: &Path) -> Result<DecodedImage> {
     if width == 0 || height == 0 {
         return Err(zero_size(path, width, height));
     }
+    crate::limits::check_cells(path, "image size", width.into(), height.into())?;
     if maxval == 0 || maxval > 65535 {
         return Err(WorldError::syntax(
             path,
@@ -583,7 +587,7 @@ fn read_ascii_samples(
 /// names), or an image without a single free pixel.
 pub fn read_image_map(path: &Path, opts: &ImageMapOptions) -> Result<Scene> {
     opts.validate(path)?;
-    let bytes = std::fs::read(path).map_err(|e| WorldError::io(path, e))?;
+    let bytes = crate::limits::read_file(path)?;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -605,7 +609,13 @@ pub(crate) fn scene_from_image_bytes(
 ) -> Result<Scene> {
     let image = decode_image(bytes, image_path)?;
     let geometry = GridGeometry::new(image.width, image.height, opts.resolution_m, opts.origin);
+    crate::scene::check_extent(opts.origin, geometry.extent_m(), "origin", image_path)?;
     let (obstacles, counts) = obstacle_layer(&image, opts);
+    let (geometry, obstacles, counts) = if opts.yaw_rad == 0.0 {
+        (geometry, obstacles, counts)
+    } else {
+        rotate_obstacles(&geometry, &obstacles, opts.yaw_rad, image_path)?
+    };
     if counts.free == 0 {
         return Err(WorldError::invalid(
             image_path,
@@ -634,6 +644,78 @@ pub(crate) fn scene_from_image_bytes(
     let p = geometry.cell_center(start);
     scene.start_poses.push(Pose2::new(p.x, p.y, 0.0));
     Ok(scene)
+}
+
+/// Yaws within this many radians of a quarter turn are that quarter turn: real map files
+/// write `3.14` for π, and a turn of exactly k·π/2 moves every pixel onto a cell unchanged.
+pub const QUARTER_TURN_TOLERANCE_RAD: f64 = 0.01;
+
+/// Turns an obstacle layer (rows south to north) about its lower-left corner by `yaw`
+/// counter-clockwise into an axis-aligned grid of the same cell size covering the turned image.
+///
+/// Each new cell takes the pixel under its centre, p = R(−yaw)·(c − origin) / resolution
+/// (nearest neighbour); cells outside the image are walls, as unknown pixels are. A yaw within
+/// [`QUARTER_TURN_TOLERANCE_RAD`] of k·π/2 is taken as exactly k quarter turns, so the cells
+/// are permuted, not resampled. The counts are of the turned grid (outside cells as occupied).
+pub fn rotate_obstacles(
+    geometry: &GridGeometry,
+    obstacles: &[u8],
+    yaw: f64,
+    path: &Path,
+) -> Result<(GridGeometry, Vec<u8>, PixelCounts)> {
+    let quarter = (yaw / std::f64::consts::FRAC_PI_2).round();
+    let (sin, cos) =
+        if (yaw - quarter * std::f64::consts::FRAC_PI_2).abs() <= QUARTER_TURN_TOLERANCE_RAD {
+            match quarter.rem_euclid(4.0) as u8 {
+                0 => (0.0, 1.0),
+                1 => (1.0, 0.0),
+                2 => (0.0, -1.0),
+                _ => (-1.0, 0.0),
+            }
+        } else {
+            yaw.sin_cos()
+        };
+    let r = geometry.resolution_m;
+    let (w, h) = (f64::from(geometry.width), f64::from(geometry.height));
+    let corners = [(0.0, 0.0), (w, 0.0), (0.0, h), (w, h)].map(|(u, v)| {
+        (u * cos - v * sin, u * sin + v * cos) // in cells, about the origin
+    });
+    let min_x = corners.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+    let min_y = corners.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+    let max_x = corners
+        .iter()
+        .map(|c| c.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let max_y = corners
+        .iter()
+        .map(|c| c.1)
+        .fold(f64::NEG_INFINITY, f64::max);
+    // A hair below the next integer: exact quarter turns must not gain a row.
+    let new_w = (max_x - min_x - 1e-9).ceil().max(1.0) as u64;
+    let new_h = (max_y - min_y - 1e-9).ceil().max(1.0) as u64;
+    crate::limits::check_cells(path, "image size after rotation by origin[2]", new_w, new_h)?;
+    let origin = Point2::new(geometry.origin.x + min_x * r, geometry.origin.y + min_y * r);
+    let turned = GridGeometry::new(new_w as u32, new_h as u32, r, origin);
+    crate::scene::check_extent(origin, turned.extent_m(), "origin", path)?;
+    let mut out = vec![obstacle::WALL; (new_w * new_h) as usize];
+    let mut counts = PixelCounts::default();
+    for row in 0..new_h {
+        for col in 0..new_w {
+            // Cell centre relative to the old origin, in cells; then into the image's frame.
+            let (x, y) = (min_x + col as f64 + 0.5, min_y + row as f64 + 0.5);
+            let (u, v) = (x * cos + y * sin, -x * sin + y * cos);
+            let i = (row * new_w + col) as usize;
+            if u >= 0.0 && v >= 0.0 && u < w && v < h {
+                out[i] = obstacles[v as usize * geometry.width as usize + u as usize];
+            }
+            if out[i] == obstacle::NONE {
+                counts.free += 1;
+            } else {
+                counts.occupied += 1;
+            }
+        }
+    }
+    Ok((turned, out, counts))
 }
 
 /// How many pixels fell in each class.

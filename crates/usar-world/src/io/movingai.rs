@@ -32,8 +32,6 @@ use std::path::Path;
 
 /// Largest map side accepted, cells (published MovingAI maps are at most a few thousand).
 pub const MAX_GRID_SIDE: u32 = 500_000;
-/// Largest number of cells accepted (one gigacell), so a bad header cannot exhaust memory.
-pub const MAX_GRID_CELLS: u64 = 1 << 30;
 
 /// A MovingAI map in our convention: row 0 is the bottom row of the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -181,7 +179,7 @@ pub struct Scenario {
 /// Reads a MovingAI `.map` file.
 pub fn read_movingai_map(path: impl AsRef<Path>) -> Result<MovingAiMap> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| WorldError::io(path, e))?;
+    let text = crate::limits::read_text(path)?;
     parse_movingai_map(&text, path)
 }
 
@@ -257,14 +255,7 @@ pub fn parse_movingai_map(text: &str, path: &Path) -> Result<MovingAiMap> {
             format!("`{missing}` is missing before `map`"),
         ));
     };
-    if u64::from(width) * u64::from(height) > MAX_GRID_CELLS {
-        return Err(WorldError::invalid(
-            path,
-            "height × width",
-            format!("{height} × {width}"),
-            format!("at most {MAX_GRID_CELLS} cells"),
-        ));
-    }
+    crate::limits::check_cells(path, "height × width", width.into(), height.into())?;
 
     let geometry = GridGeometry::new(width, height, 1.0, Point2::new(0.0, 0.0));
     let mut passable = Grid::filled(geometry, false);
@@ -325,7 +316,7 @@ pub fn parse_movingai_map(text: &str, path: &Path) -> Result<MovingAiMap> {
 /// Reads a MovingAI `.scen` file.
 pub fn read_scenarios(path: impl AsRef<Path>) -> Result<Vec<Scenario>> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| WorldError::io(path, e))?;
+    let text = crate::limits::read_text(path)?;
     parse_scenarios(&text, path)
 }
 

@@ -23,6 +23,7 @@ pub const SCENE_FORMAT: &str = "usar-scene";
 pub const SCENE_VERSION: u32 = 1;
 
 #[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct SceneFile {
     format: String,
     version: u32,
@@ -48,6 +49,7 @@ struct SceneFile {
 }
 
 #[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct Layers {
     obstacle: Layer,
     floor_height_m: Layer,
@@ -55,6 +57,7 @@ struct Layers {
 }
 
 #[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct Layer {
     dtype: String,
     encoding: String,
@@ -73,7 +76,7 @@ struct Header {
 
 /// Reads and validates a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| WorldError::io(path, e))?;
+    let text = crate::limits::read_text(path)?;
     scene_from_json(&text, path)
 }
 
@@ -271,6 +274,7 @@ fn decode_layer(
                 "base64 text",
             )
         })?;
+    // `cells` is within the cell limit (checked with the geometry), so this is bounded.
     let expected = cells * bytes_per_cell;
     let mut bytes = Vec::with_capacity(expected);
     ZlibDecoder::new(compressed.as_slice())

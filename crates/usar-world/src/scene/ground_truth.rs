@@ -5,6 +5,7 @@ use crate::geometry::{Point2, Rect};
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GroundTruth {
     #[serde(default)]
     pub junctions: Vec<Junction>,
@@ -24,6 +25,7 @@ pub enum JunctionKind {
 
 /// Where passages meet, turn or end.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Junction {
     pub kind: JunctionKind,
     pub position: Point2,
@@ -31,7 +33,7 @@ pub struct Junction {
 
 /// A region with a terrain property a test can check against.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
 pub enum TerrainFeature {
     /// An open hall: free space wider than the laser's reach in at least one direction.
     Hall { region: Rect },

@@ -13,6 +13,8 @@ pub use self::file::{
 pub use self::ground_truth::{GroundTruth, Junction, JunctionKind, TerrainFeature};
 pub use self::info::{RoomInfo, SceneInfo};
 pub use self::semantic::{Door, Room, RoomId, RoomLabel, RoomSizeThresholds};
+pub use self::validate::{MAX_ABS_COORD_M, MAX_GRID_SIDE, RESOLUTION_RANGE_M};
+pub(crate) use self::validate::{check_extent, check_resolution};
 pub use self::victim::{HeatSource, Victim};
 
 use crate::geometry::Pose2;
@@ -31,6 +33,7 @@ pub mod obstacle {
 
 /// Where a scene came from, kept in the file so that a scene can be regenerated.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Provenance {
     /// Generator kind (`office`, `rubble`, ...) or `import`.
     pub source: String,

@@ -55,6 +55,7 @@ impl std::fmt::Display for RoomLabel {
 /// room or lab (30–100 m²) in `medium_room` and halls, canteens and shops above 100 m² in
 /// `big_room`, which reproduces the label shares of Tables 2–3 on our generated floors.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RoomSizeThresholds {
     pub small_below_m2: f64,
     pub medium_below_m2: f64,
@@ -74,6 +75,7 @@ pub type RoomId = u16;
 
 /// A room or corridor of the semantic layer. Its cells are those of the room layer carrying `id`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Room {
     pub id: RoomId,
     pub label: RoomLabel,
@@ -87,6 +89,7 @@ pub struct Room {
 
 /// A doorway between two rooms (or a room and a corridor).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Door {
     pub id: u32,
     /// Centre of the doorway.

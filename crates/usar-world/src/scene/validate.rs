@@ -9,18 +9,53 @@ use std::path::Path;
 
 /// Largest grid side accepted (cells): 50 km at 0.1 m, far beyond any building.
 pub const MAX_GRID_SIDE: u32 = 500_000;
-/// Largest number of cells accepted (one gigacell).
-pub const MAX_GRID_CELLS: u64 = 1 << 30;
 
-pub(crate) fn check_geometry(g: &GridGeometry, path: &Path) -> Result<()> {
-    if !(g.resolution_m.is_finite() && g.resolution_m > 0.0) {
+/// Cell sides accepted, metres: 1 mm to 100 m. Outside it areas overflow to infinity or
+/// vanish, so a mistyped `1e300` would give `null` areas far downstream.
+pub const RESOLUTION_RANGE_M: std::ops::RangeInclusive<f64> = 0.001..=100.0;
+/// Largest |x| or |y| of a map's origin and far corner, metres (1 000 km): beyond it a cell's
+/// position is lost to rounding and coverage comes out wrong without an error.
+pub const MAX_ABS_COORD_M: f64 = 1.0e6;
+
+/// Checks a cell side against [`RESOLUTION_RANGE_M`].
+pub(crate) fn check_resolution(resolution_m: f64, field: &str, path: &Path) -> Result<()> {
+    if !RESOLUTION_RANGE_M.contains(&resolution_m) {
         return Err(WorldError::invalid(
             path,
-            "grid.resolution_m",
-            g.resolution_m,
-            "a positive number of metres",
+            field,
+            resolution_m,
+            format!(
+                "metres per cell from {} to {}",
+                RESOLUTION_RANGE_M.start(),
+                RESOLUTION_RANGE_M.end()
+            ),
         ));
     }
+    Ok(())
+}
+
+/// Checks that a map with this origin and extent lies within ±[`MAX_ABS_COORD_M`].
+pub(crate) fn check_extent(
+    origin: Point2,
+    extent_m: (f64, f64),
+    field: &str,
+    path: &Path,
+) -> Result<()> {
+    let far = Point2::new(origin.x + extent_m.0, origin.y + extent_m.1);
+    let inside = |v: f64| v.is_finite() && v.abs() <= MAX_ABS_COORD_M;
+    if !(inside(origin.x) && inside(origin.y) && inside(far.x) && inside(far.y)) {
+        return Err(WorldError::invalid(
+            path,
+            field,
+            format!("[{}, {}]", origin.x, origin.y),
+            format!("coordinates within ±{MAX_ABS_COORD_M} m, the far corner included"),
+        ));
+    }
+    Ok(())
+}
+
+pub(crate) fn check_geometry(g: &GridGeometry, path: &Path) -> Result<()> {
+    check_resolution(g.resolution_m, "grid.resolution_m", path)?;
     for (field, v) in [("grid.width", g.width), ("grid.height", g.height)] {
         if v == 0 || v > MAX_GRID_SIDE {
             return Err(WorldError::invalid(
@@ -31,23 +66,8 @@ pub(crate) fn check_geometry(g: &GridGeometry, path: &Path) -> Result<()> {
             ));
         }
     }
-    if u64::from(g.width) * u64::from(g.height) > MAX_GRID_CELLS {
-        return Err(WorldError::invalid(
-            path,
-            "grid",
-            format!("{}×{} cells", g.width, g.height),
-            format!("at most {MAX_GRID_CELLS} cells"),
-        ));
-    }
-    if !(g.origin.x.is_finite() && g.origin.y.is_finite()) {
-        return Err(WorldError::invalid(
-            path,
-            "grid.origin",
-            format!("{:?}", g.origin),
-            "finite coordinates",
-        ));
-    }
-    Ok(())
+    crate::limits::check_cells(path, "grid", g.width.into(), g.height.into())?;
+    check_extent(g.origin, g.extent_m(), "grid.origin", path)
 }
 
 fn check_point(p: Point2, g: &GridGeometry, field: &str, path: &Path) -> Result<()> {
@@ -185,7 +205,16 @@ pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
             ));
         }
     }
+    let mut victim_ids = BTreeSet::new();
     for (i, v) in scene.victims.iter().enumerate() {
+        if !victim_ids.insert(v.id) {
+            return Err(WorldError::invalid(
+                path,
+                format!("victims[{i}].id"),
+                v.id,
+                "a unique id (another victim has it)",
+            ));
+        }
         check_point(v.position, g, &format!("victims[{i}].position"), path)?;
         check_positive(
             v.visible_size_m2,
@@ -206,7 +235,16 @@ pub(crate) fn validate_scene(scene: &Scene, path: &Path) -> Result<()> {
             ));
         }
     }
+    let mut heat_ids = BTreeSet::new();
     for (i, h) in scene.heat_sources.iter().enumerate() {
+        if !heat_ids.insert(h.id) {
+            return Err(WorldError::invalid(
+                path,
+                format!("heat_sources[{i}].id"),
+                h.id,
+                "a unique id (another heat source has it)",
+            ));
+        }
         check_point(h.position, g, &format!("heat_sources[{i}].position"), path)?;
         check_positive(h.size_m2, &format!("heat_sources[{i}].size_m2"), path)?;
         if !h.heat_c.is_finite() {

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 /// A person to be found.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Victim {
     pub id: u32,
     pub position: Point2,
@@ -25,6 +26,7 @@ impl Victim {
 
 /// A heat source that is not a victim: a radiator, a small fire, a warm engine.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct HeatSource {
     pub id: u32,
     pub position: Point2,

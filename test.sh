@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The README's test command: installs what the tests need when it is missing, then runs
+# `cargo test --workspace`. Extra arguments go to cargo test (e.g. `./test.sh -p usar-world`).
+#
+# What the tests need beyond a Rust toolchain:
+# - Debian's headless Chromium and its WebDriver (`chromium`, `chromium-driver`), for the
+#   operator console's end-to-end browser test (crates/usar-console/tests/browser.rs).
+#
+# Set USAR_FUZZ_SECONDS to let the loaders' fuzz harness run longer than its CI budget.
+set -euo pipefail
+cd "$(dirname "$0")"
+
+need_apt=()
+[ -x /usr/bin/chromium ] || need_apt+=(chromium)
+[ -x /usr/bin/chromedriver ] || need_apt+=(chromium-driver)
+if [ ${#need_apt[@]} -gt 0 ]; then
+  if ! command -v apt-get >/dev/null; then
+    echo "test.sh: ${need_apt[*]} missing and no apt-get here: install Chromium and chromedriver at /usr/bin" >&2
+    exit 1
+  fi
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "test.sh: installing ${need_apt[*]} needs root or sudo" >&2; exit 1; }
+    SUDO="sudo"
+  fi
+  echo "test.sh: installing ${need_apt[*]} (the console's browser test)"
+  # Two tries: a mirror hiccup should not fail the run.
+  for try in 1 2; do
+    if $SUDO apt-get update -qq &&
+      DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}"; then
+      break
+    fi
+    if [ "$try" -eq 2 ]; then
+      echo "test.sh: could not install ${need_apt[*]}" >&2
+      exit 1
+    fi
+    sleep 10
+  done
+fi
+
+exec cargo test --workspace "$@"
