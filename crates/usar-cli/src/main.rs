@@ -15,6 +15,7 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     restore_sigpipe();
     let args = cli::Cli::parse();
+    usar_world::limits::set_limits(args.limits.limits());
     match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {

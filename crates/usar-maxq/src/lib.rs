@@ -11,4 +11,4 @@ pub mod taxi;
 
 pub use self::flat_q::{FlatQ, SparseFlatQ};
 pub use self::maxq::{Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind};
-pub use self::schedule::Schedule;
+pub use self::schedule::{ParamError, Schedule};

@@ -25,7 +25,7 @@
 //! is what i's parents see. Each node reads and writes its tables through its own state
 //! abstraction, so a subtask only stores values for the state variables relevant to it.
 
-use crate::schedule::Schedule;
+use crate::schedule::{ParamError, Schedule};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
@@ -115,6 +115,22 @@ pub struct LearningParams {
     pub epsilon: Schedule,
     /// Primitive steps after which an episode is cut off.
     pub max_steps_per_episode: u64,
+}
+
+impl LearningParams {
+    /// Checks γ ∈ (0, 1], the α and ε schedules ([`Schedule::validate`]) and an episode cut
+    /// of at least one step; the error names the field (`gamma`, `alpha.min`, …).
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if !(self.gamma > 0.0 && self.gamma <= 1.0) {
+            return Err(ParamError::new("gamma", self.gamma, "a discount in (0, 1]"));
+        }
+        self.alpha.validate().map_err(|e| e.within("alpha"))?;
+        self.epsilon.validate().map_err(|e| e.within("epsilon"))?;
+        if self.max_steps_per_episode == 0 {
+            return Err(ParamError::new("max_steps_per_episode", 0, "at least 1"));
+        }
+        Ok(())
+    }
 }
 
 /// The outcome of an episode.

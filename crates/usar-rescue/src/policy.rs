@@ -80,9 +80,18 @@ impl PolicyFile {
 
     /// Reads and checks a policy file.
     pub fn load(path: &Path) -> Result<Self, PolicyError> {
-        let text = std::fs::read_to_string(path).map_err(|source| PolicyError::Io {
-            path: path.into(),
-            source,
+        let text = usar_world::limits::read_text(path).map_err(|e| match e {
+            usar_world::WorldError::Io { io, .. } => PolicyError::Io {
+                path: path.into(),
+                source: io,
+            },
+            other => PolicyError::Parse {
+                path: path.into(),
+                message: other
+                    .to_string()
+                    .trim_start_matches(&format!("{}: ", path.display()))
+                    .to_string(),
+            },
         })?;
         let file: PolicyFile = serde_json::from_str(&text).map_err(|e| PolicyError::Parse {
             path: path.into(),
@@ -111,6 +120,13 @@ impl PolicyFile {
                 "version",
                 self.version.to_string(),
                 VERSION.to_string(),
+            ));
+        }
+        if let Err(e) = self.learner.params.validate() {
+            return Err(mismatch(
+                &format!("learner.params.{}", e.field),
+                e.found,
+                e.expected,
             ));
         }
         let h = RescueHierarchy::new();

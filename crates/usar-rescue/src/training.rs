@@ -54,34 +54,33 @@ impl Default for TrainConfig {
     }
 }
 
-/// The most trials one training run takes (paper 000 trains 1 800): a count is checked
-/// against it before anything is allocated, so a mistyped `4000000000` is refused at once
-/// instead of running for years or aborting on its curve's allocation.
-pub const MAX_TRIALS: u32 = 1_000_000;
+/// The default most trials one training run takes (paper 000 trains 1 800); the limit in
+/// force is [`usar_world::limits::limits`]`().max_trials` (`usar --max-trials`). A count is
+/// checked against it before anything is allocated, so a mistyped `4000000000` is refused at
+/// once instead of running for years or aborting on its curve's allocation.
+pub const MAX_TRIALS: u32 = usar_world::limits::Limits::DEFAULT.max_trials as u32;
 
 /// A training configuration that cannot run.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TrainConfigError {
-    #[error("trials: found {found}, expected 1 to {max}")]
-    Trials { found: u32, max: u32 },
+    #[error("trials: found {found}, expected 1 to {max} (raise the limit with --max-trials)")]
+    Trials { found: u32, max: u64 },
 }
 
 impl TrainConfig {
-    /// Checks the trial count (1 ..= [`MAX_TRIALS`]).
+    /// Checks the trial count (1 ..= the trial limit).
     pub fn validate(&self) -> Result<(), TrainConfigError> {
         check_trials(self.trials)
     }
 }
 
-/// Checks a trial count against 1 ..= [`MAX_TRIALS`].
+/// Checks a trial count against 1 ..= the trial limit in force.
 pub fn check_trials(trials: u32) -> Result<(), TrainConfigError> {
-    if (1..=MAX_TRIALS).contains(&trials) {
+    let max = usar_world::limits::limits().max_trials;
+    if trials >= 1 && u64::from(trials) <= max {
         Ok(())
     } else {
-        Err(TrainConfigError::Trials {
-            found: trials,
-            max: MAX_TRIALS,
-        })
+        Err(TrainConfigError::Trials { found: trials, max })
     }
 }
 

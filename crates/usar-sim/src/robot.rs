@@ -109,9 +109,12 @@ impl RobotSpec {
 
     /// Reads a robot file (TOML). It names a `preset` to start from and overrides fields of it.
     pub fn from_toml_file(path: &Path) -> Result<Self, crate::SimError> {
-        let text = std::fs::read_to_string(path).map_err(|e| crate::SimError::Io {
+        let text = usar_world::limits::read_text(path).map_err(|e| crate::SimError::RobotFile {
             path: path.display().to_string(),
-            io: e,
+            message: e
+                .to_string()
+                .trim_start_matches(&format!("{}: ", path.display()))
+                .to_string(),
         })?;
         Self::from_toml(&text, path)
     }
@@ -176,8 +179,114 @@ impl RobotSpec {
                 self.max_step_m
             ));
         }
-        if self.laser.beams == 0 {
-            return Err("field `laser.beams`: found 0, expected at least 1".into());
+        let nonnegative = [
+            ("laser.range_noise_sd_m", self.laser.range_noise_sd_m),
+            (
+                "tilted_laser.range_noise_sd_m",
+                self.tilted_laser.range_noise_sd_m,
+            ),
+            (
+                "tilted_laser.mount_height_m",
+                self.tilted_laser.mount_height_m,
+            ),
+            ("depth.mount_height_m", self.depth.mount_height_m),
+            (
+                "thermal.temperature_noise_sd_c",
+                self.thermal.temperature_noise_sd_c,
+            ),
+            ("thermal.mount_height_m", self.thermal.mount_height_m),
+            ("infrared.range_noise_sd_m", self.infrared.range_noise_sd_m),
+            ("infrared.mount_height_m", self.infrared.mount_height_m),
+            (
+                "noise.odometry_translation_sd_per_m",
+                self.noise.odometry_translation_sd_per_m,
+            ),
+            (
+                "noise.odometry_rotation_sd_per_rad",
+                self.noise.odometry_rotation_sd_per_rad,
+            ),
+            ("noise.attitude_sd_rad", self.noise.attitude_sd_rad),
+        ];
+        for (field, v) in nonnegative {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!("field `{field}`: found {v}, expected a number ≥ 0"));
+            }
+        }
+        let ranges = [
+            ("tilted_laser.max_range_m", self.tilted_laser.max_range_m),
+            ("depth.max_range_m", self.depth.max_range_m),
+            ("thermal.max_range_m", self.thermal.max_range_m),
+            ("infrared.max_range_m", self.infrared.max_range_m),
+        ];
+        for (field, v) in ranges {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!(
+                    "field `{field}`: found {v}, expected a positive number"
+                ));
+            }
+        }
+        let full_turn = std::f64::consts::TAU;
+        let fields_of_view = [
+            ("laser.fov_rad", self.laser.fov_rad),
+            ("tilted_laser.fov_rad", self.tilted_laser.fov_rad),
+            ("depth.hfov_rad", self.depth.hfov_rad),
+            ("depth.vfov_rad", self.depth.vfov_rad),
+            ("thermal.hfov_rad", self.thermal.hfov_rad),
+        ];
+        for (field, v) in fields_of_view {
+            if !(v > 0.0 && v <= full_turn + 1e-9) {
+                return Err(format!(
+                    "field `{field}`: found {v}, expected an angle in (0, 2π]"
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.thermal.size_noise_fraction) {
+            return Err(format!(
+                "field `thermal.size_noise_fraction`: found {}, expected a fraction in [0, 1]",
+                self.thermal.size_noise_fraction
+            ));
+        }
+        let [low, high] = self.thermal.human_band_c;
+        if !(low.is_finite() && high.is_finite() && low <= high) {
+            return Err(format!(
+                "field `thermal.human_band_c`: found [{low}, {high}], expected [low, high] °C with low ≤ high"
+            ));
+        }
+        if let Some(d) = self.infrared.directions_rad.iter().find(|d| !d.is_finite()) {
+            return Err(format!(
+                "field `infrared.directions_rad`: found {d}, expected finite angles in radians"
+            ));
+        }
+        // Beams are checked against the limit before any scan buffer is sized from them.
+        let max_beams = usar_world::limits::limits().max_beams;
+        let beams = [
+            ("laser.beams", u64::from(self.laser.beams)),
+            ("tilted_laser.beams", u64::from(self.tilted_laser.beams)),
+            (
+                "depth.rows × depth.cols",
+                u64::from(self.depth.rows) * u64::from(self.depth.cols),
+            ),
+            (
+                "infrared.directions_rad",
+                self.infrared.directions_rad.len() as u64,
+            ),
+        ];
+        for (field, n) in beams {
+            if n > max_beams {
+                return Err(format!(
+                    "field `{field}`: found {n}, expected at most {max_beams} beams (raise the limit with --max-beams)"
+                ));
+            }
+        }
+        for (field, n) in [
+            ("laser.beams", self.laser.beams),
+            ("tilted_laser.beams", self.tilted_laser.beams),
+            ("depth.rows", self.depth.rows),
+            ("depth.cols", self.depth.cols),
+        ] {
+            if n == 0 {
+                return Err(format!("field `{field}`: found 0, expected at least 1"));
+            }
         }
         Ok(())
     }
@@ -222,5 +331,46 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("width_m") && err.contains("-1"), "{err}");
+    }
+
+    #[test]
+    fn every_preset_is_valid() {
+        for name in ["crawler", "wheeled", "wheeled-paper-pace"] {
+            let spec = RobotSpec::preset(name).unwrap();
+            assert_eq!(spec.validate(), Ok(()), "{name}");
+        }
+    }
+
+    #[test]
+    fn negative_noise_and_runaway_beams_name_the_field() {
+        let err = |text: &str| {
+            RobotSpec::from_toml(text, Path::new("r.toml"))
+                .unwrap_err()
+                .to_string()
+        };
+        for (text, field) in [
+            (
+                "[laser]\nrange_noise_sd_m = -0.1\n",
+                "laser.range_noise_sd_m",
+            ),
+            ("[noise]\nattitude_sd_rad = -1.0\n", "noise.attitude_sd_rad"),
+            (
+                "[thermal]\nsize_noise_fraction = 2.0\n",
+                "thermal.size_noise_fraction",
+            ),
+            ("[laser]\nfov_rad = 0.0\n", "laser.fov_rad"),
+            ("[depth]\nrows = 0\n", "depth.rows"),
+        ] {
+            let e = err(text);
+            assert!(e.contains(&format!("field `{field}`")), "{text}: {e}");
+        }
+        // A hundred million beams would size every scan buffer at 400 MB.
+        let e = err("[laser]\nbeams = 100000000\n");
+        assert!(
+            e.contains("laser.beams") && e.contains("--max-beams"),
+            "{e}"
+        );
+        let e = err("[depth]\nrows = 100000\ncols = 100000\n");
+        assert!(e.contains("depth.rows × depth.cols"), "{e}");
     }
 }

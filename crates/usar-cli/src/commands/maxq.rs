@@ -27,15 +27,15 @@ pub fn run(cmd: MaxqCommand) -> CmdResult {
 
 /// `usar maxq train`: the policy file, the stored-value counts and the curves.
 fn train_command(args: MaxqTrainArgs) -> CmdResult {
-    if args.trials == 0 {
-        return Err(bad_input(anyhow::anyhow!("--trials must be at least 1")));
-    }
     let config = TrainConfig {
         seed: args.seed,
         trials: args.trials,
         flat: !args.no_flat,
         ..TrainConfig::default()
     };
+    config
+        .validate()
+        .map_err(|e| bad_input(anyhow::anyhow!("--{e}")))?;
     let bar = progress::bar(u64::from(args.trials), "training", args.json);
     let (learner, report) = train(&config, |t| bar.set_position(u64::from(t)));
     bar.finish_and_clear();
