@@ -12,11 +12,46 @@ use std::path::PathBuf;
 ///
 /// Exit codes: 0 success, 1 internal failure, 2 bad input (the message names the file and the
 /// problem).
+///
+/// Inputs are bounded: a file may not make usar allocate or work past the limits below (grid
+/// cells, file size, laser beams, training trials); each is checked before anything is
+/// allocated, and every command takes the options to raise them.
 #[derive(Debug, Parser)]
 #[command(name = "usar", version, about, long_about, propagate_version = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// Limits on what an input may make usar do (see `usar_world::limits`).
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Input limits")]
+pub struct LimitArgs {
+    /// Most cells of a grid read from a file (a map image, a scene, a MovingAI map).
+    #[arg(long, global = true, value_name = "N", default_value_t = usar_world::limits::Limits::DEFAULT.max_cells)]
+    pub max_cells: u64,
+    /// Most MiB read from one input file.
+    #[arg(long, global = true, value_name = "MIB", default_value_t = usar_world::limits::Limits::DEFAULT.max_file_bytes >> 20)]
+    pub max_file_mb: u64,
+    /// Most beams of one laser or depth sensor in a robot file.
+    #[arg(long, global = true, value_name = "N", default_value_t = usar_world::limits::Limits::DEFAULT.max_beams)]
+    pub max_beams: u64,
+    /// Most trials of one MAXQ training run.
+    #[arg(long, global = true, value_name = "N", default_value_t = usar_world::limits::Limits::DEFAULT.max_trials)]
+    pub max_trials: u64,
+}
+
+impl LimitArgs {
+    pub fn limits(&self) -> usar_world::limits::Limits {
+        usar_world::limits::Limits {
+            max_cells: self.max_cells,
+            max_file_bytes: self.max_file_mb.saturating_mul(1 << 20),
+            max_beams: self.max_beams,
+            max_trials: self.max_trials,
+        }
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -272,11 +307,14 @@ pub struct MaxqTaxiArgs {
 #[derive(Debug, Subcommand)]
 pub enum CampaignCommand {
     /// Run a campaign file or a built-in preset into a result folder. Runs already in the
-    /// folder's database are not redone: run the same command again to resume.
+    /// folder's database are not redone: run the same command again to resume. One run at a
+    /// time uses a folder: a second one is refused at once (exit 2).
     Run(CampaignRunArgs),
-    /// Combine the result folders of shards of one campaign into a new folder.
+    /// Combine the result folders of shards of one campaign into a new folder. A shard still
+    /// being run is refused (exit 2).
     Merge(CampaignMergeArgs),
-    /// Tables (mean (sd)), the comparisons the campaign asks for, and plots.
+    /// Tables (mean (sd)), the comparisons the campaign asks for, and plots. Reads the runs
+    /// finished so far (also during a run); one report at a time writes DIR/report/.
     Report(CampaignReportArgs),
     /// One CSV row per run: factors and final metrics (columns: docs/campaign-format.md).
     Export(CampaignExportArgs),
@@ -292,7 +330,8 @@ pub struct CampaignRunArgs {
     /// A built-in campaign (see `usar campaign list`), e.g. smoke.
     #[arg(long)]
     pub preset: Option<String>,
-    /// Result folder (default: out/campaigns/NAME).
+    /// Result folder (default: out/campaigns/NAME). It is locked for the run (lock file
+    /// `.usar-campaign.lock`, released when the run ends, however it ends).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Parallel runs (default: one per core).
