@@ -81,6 +81,8 @@ pub enum Command {
     Maxq(MaxqCommand),
     /// Paper 004's Behavioral Trace Maps: show, export, plan on and merge topological maps.
     /// A BTM file is a BTM database (.sqlite), its JSON export (.json) or compact binary (.btmb).
+    /// Every map read is checked (finite, non-negative measures, named kinds, links between
+    /// existing nodes, unique ids); a bad one is refused with exit 2.
     #[command(subcommand)]
     Btm(BtmCommand),
     /// The operator console: a live mission in the browser (`usar console --help`).
@@ -142,7 +144,9 @@ pub struct BtmBuildArgs {
     /// (x_m, y_m, theta_rad) and the run mode at every step.
     #[arg(long)]
     pub trace: Option<PathBuf>,
-    /// Print nodes by type, links by status, sizes and every node and link as JSON.
+    /// Print the build as JSON: `nodes_by_kind`, `links_searched`, `links_unsearched`, every
+    /// node and link (fields as `usar btm export --json`), the stop reason, time, distance,
+    /// collisions and `bytes` (the map's sizes as .btmb, JSON and SQLite against the grid's).
     #[arg(long)]
     pub json: bool,
 }
@@ -170,8 +174,13 @@ pub struct BtmExportArgs {
     /// Write the map to this .json, .graphml, .btmb (compact binary) or .sqlite file.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Print every node (id, type, subtype, x, y, attributes) and link (ends, status,
-    /// length, minimum width, inclination) as JSON.
+    /// Print the map as JSON: `nodes_by_kind` (counts by "kind/subtype"), `links_searched`,
+    /// `links_unsearched`, every node (`id`, `kind`, `subtype`, `x_m`, `y_m`,
+    /// `slope_inclination_rad`, `step_height_m`, `max_robot_inclination_rad`, `operator_note`,
+    /// the derived `links` and `link_angles_rad`) and every link (`id`, `start`, `end`,
+    /// `searched`, `direction_rad`, `length_m`, `min_width_m`, `max_inclination_rad`,
+    /// `max_step_m`); `extra` where a node or link has extension attributes. Metres and
+    /// radians; `null` where not measured (`end`: an un-searched link's far end).
     #[arg(long)]
     pub json: bool,
 }
@@ -604,7 +613,9 @@ fn parse_point(s: &str) -> Result<(f64, f64), String> {
     let parse = |v: &str| {
         v.trim()
             .parse::<f64>()
-            .map_err(|_| format!("expected a number, found {v:?} in {s:?}"))
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("expected a finite number, found {v:?} in {s:?}"))
     };
     Ok((parse(x)?, parse(y)?))
 }

@@ -39,6 +39,24 @@ pub fn load_spec(spec: &SceneSpec) -> CmdResult<Scene> {
     load(&spec.scene, spec.seed, &spec.image)
 }
 
+/// Refuses a scene output path that [`load`] could not read back: scene files are `.json`
+/// (the extension chooses the format when a file is read).
+pub fn check_scene_output(path: &Path, option: &str) -> CmdResult {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if ext.as_deref() == Some("json") {
+        return Ok(());
+    }
+    Err(bad_input(anyhow::anyhow!(
+        "{option} {}: a scene file must end in .json, found {}; the extension chooses the \
+         format when the file is read back",
+        path.display(),
+        ext.map_or_else(|| "no extension".to_string(), |e| format!(".{e}"))
+    )))
+}
+
 /// Loads a scene from a path (by extension) or generates one by name.
 pub fn load(spec: &str, seed: u64, image: &ImageArgs) -> CmdResult<Scene> {
     if let Ok(kind) = spec.parse::<SceneKind>()
@@ -89,17 +107,12 @@ pub fn load_robot(spec: &str) -> CmdResult<usar_sim::RobotSpec> {
 
 /// Reads a TOML settings file into `T`; a bad file is bad input naming the file and the line.
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> CmdResult<T> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+    let text = usar_world::limits::read_text(path).input()?;
     toml::from_str(&text).map_err(|e: toml::de::Error| {
-        let line = e
-            .span()
-            .map(|r| text[..r.start.min(text.len())].matches('\n').count() + 1)
-            .unwrap_or(1);
         bad_input(anyhow::anyhow!(
-            "{}: line {line}: {}",
+            "{}: {}",
             path.display(),
-            e.message().trim().replace('\n', " ")
+            usar_world::toml_error_line(&text, &e)
         ))
     })
 }

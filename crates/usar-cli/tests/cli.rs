@@ -3,6 +3,7 @@
 mod btm;
 mod campaign;
 mod console;
+mod inputs;
 mod maxq;
 mod segment;
 

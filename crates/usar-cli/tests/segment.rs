@@ -70,7 +70,7 @@ fn scene_segment_scores_the_intel_lab_and_draws_the_rooms() {
             "--params",
             bad.path().to_str().unwrap(),
         ]),
-        "line 2: unknown field `door_width`",
+        "line 2, column 1: unknown field `door_width`",
     );
 }
 

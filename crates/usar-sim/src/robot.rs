@@ -125,9 +125,8 @@ impl RobotSpec {
             path: path.display().to_string(),
             message,
         };
-        let mut table: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
+        let mut table: toml::Table = toml::from_str(text)
+            .map_err(|e: toml::de::Error| bad(usar_world::toml_error_line(text, &e)))?;
         let preset = match table.remove("preset") {
             None => Self::crawler(),
             Some(toml::Value::String(name)) => Self::preset(&name).ok_or_else(|| {
@@ -145,7 +144,7 @@ impl RobotSpec {
         merge_tables(&mut base, table);
         let spec: RobotSpec = base
             .try_into()
-            .map_err(|e: toml::de::Error| bad(e.to_string().trim().to_string()))?;
+            .map_err(|e: toml::de::Error| bad(e.message().trim().replace('\n', "; ")))?;
         spec.validate().map_err(bad)?;
         Ok(spec)
     }
@@ -364,6 +363,9 @@ mod tests {
             let e = err(text);
             assert!(e.contains(&format!("field `{field}`")), "{text}: {e}");
         }
+        // A duplicate key is named as one, on one line.
+        let e = err("width_m = 0.5\nwidth_m = 0.6\n");
+        assert_eq!(e, "r.toml: line 2, column 1: duplicate key `width_m`");
         // A hundred million beams would size every scan buffer at 400 MB.
         let e = err("[laser]\nbeams = 100000000\n");
         assert!(

@@ -28,9 +28,11 @@ pub mod limits;
 pub mod ray;
 pub mod render;
 pub mod scene;
+mod toml_error;
 
 pub use self::atomic::write_atomic;
 pub use self::error::{Result, WorldError};
+pub use self::toml_error::toml_error_line;
 pub use self::geometry::{BodyToWorld, Point2, Pose2, Rect, normalize_angle};
 pub use self::grid::{Cell, Grid, GridGeometry, NEIGHBORS8};
 pub use self::ray::{CellRect, GridRay, RayVisitor, Visit};

@@ -36,6 +36,7 @@ fn summary(scene: &usar_world::Scene, path: &std::path::Path) -> serde_json::Val
 }
 
 fn generate(args: SceneGenArgs) -> CmdResult {
+    scene_source::check_scene_output(&args.output, "-o")?;
     let scene = match (args.kind, args.furniture) {
         (_, None) => usar_world::generate::generate(scene_source::kind(args.kind), args.seed),
         (GeneratorKind::Office | GeneratorKind::Mall, Some(share)) => {
@@ -83,6 +84,7 @@ fn generate(args: SceneGenArgs) -> CmdResult {
 }
 
 fn import(args: SceneImportArgs) -> CmdResult {
+    scene_source::check_scene_output(&args.output, "-o")?;
     let spec = args.input.to_string_lossy().into_owned();
     if !args.input.exists() {
         return Err(bad_input(anyhow::anyhow!("{spec}: no such file")));
@@ -109,6 +111,9 @@ fn export(args: SceneExportArgs) -> CmdResult {
         return Err(bad_input(anyhow::anyhow!(
             "nothing to export: give --ros FILE.yaml, --png FILE.png or --scene-file FILE.json"
         )));
+    }
+    if let Some(file) = &args.scene_file {
+        scene_source::check_scene_output(file, "--scene-file")?;
     }
     let scene = scene_source::load_spec(&args.source)?;
     let mut written = Vec::new();

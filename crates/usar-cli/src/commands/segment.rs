@@ -125,8 +125,7 @@ fn read_params(path: &Path) -> CmdResult<SegmentationParams> {
 
 /// A ground-truth image of the scene's size.
 fn truth_image(path: &Path, scene: &Scene) -> CmdResult<DecodedImage> {
-    let bytes =
-        std::fs::read(path).map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
+    let bytes = usar_world::limits::read_file(path).input()?;
     let image = decode_image(&bytes, path).input()?;
     let g = scene.geometry();
     if (image.width, image.height) != (g.width, g.height) {
