@@ -2,7 +2,9 @@
 //! tools such as yEd, Gephi or NetworkX; every attribute a `<data>` key).
 //!
 //! JSON readers ignore unknown top-level fields and keep unknown node kinds and `extra`
-//! attributes, so a map written by a newer version still loads.
+//! attributes, so a map written by a newer version still loads. Every map read is checked
+//! ([`crate::validate`]): finite, sane measures, named kinds, links between existing nodes,
+//! unique ids. GraphML is written only.
 
 use crate::model::{Btm, Link, Node};
 use serde::{Deserialize, Serialize};
@@ -47,10 +49,20 @@ pub fn to_json(btm: &Btm) -> String {
     serde_json::to_string_pretty(&to_json_value(btm)).expect("JSON serializes")
 }
 
-/// Reads a map from JSON; `source` names it in errors.
+/// Reads a map from JSON and checks it ([`crate::validate::check`]); `source` names it in
+/// errors.
 pub fn from_json(text: &str, source: &str) -> Result<Btm, String> {
-    let file: JsonFile =
-        serde_json::from_str(text).map_err(|e| format!("{source}: line {}: {e}", e.line()))?;
+    let file: JsonFile = serde_json::from_str(text).map_err(|e| {
+        let message = e.to_string();
+        let message = message
+            .rsplit_once(" at line ")
+            .map_or(message.as_str(), |(m, _)| m);
+        format!(
+            "{source}: line {} column {}: {message}",
+            e.line(),
+            e.column()
+        )
+    })?;
     if file.format != JSON_FORMAT {
         return Err(format!(
             "{source}: field `format`: found {:?}, expected \"{JSON_FORMAT}\"",
@@ -67,16 +79,7 @@ pub fn from_json(text: &str, source: &str) -> Result<Btm, String> {
         nodes: file.nodes,
         links: file.links,
     };
-    for l in &btm.links {
-        for end in std::iter::once(l.start).chain(l.end) {
-            if btm.node(end).is_none() {
-                return Err(format!(
-                    "{source}: link {}: node {end} does not exist, expected a node id of the map",
-                    l.id
-                ));
-            }
-        }
-    }
+    crate::validate::check(&btm).map_err(|e| format!("{source}: {e}"))?;
     Ok(btm)
 }
 
@@ -175,21 +178,29 @@ pub fn to_graphml(btm: &Btm) -> String {
 }
 
 /// Reads a BTM from a `.json` file, a binary `.btmb` file ([`crate::wire`]) or a BTM database
-/// (any other extension).
+/// (any other extension but `.graphml`, which is written only), and checks it
+/// ([`crate::validate`]). Errors are one line naming the file.
 pub fn read(path: &std::path::Path) -> Result<Btm, String> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
-    let cannot = |e: std::io::Error| format!("{}: cannot read: {e}", path.display());
     match ext.as_str() {
+        "graphml" => {
+            return Err(format!(
+                "{}: GraphML is an export format only, expected a .json, .btmb or BTM database (.sqlite) file",
+                path.display()
+            ));
+        }
+        // Read whole under the process's file-size limit (`usar --max-file-mb`), checked
+        // before anything is read.
         "json" => {
-            let text = std::fs::read_to_string(path).map_err(cannot)?;
+            let text = usar_world::limits::read_text(path).map_err(|e| e.to_string())?;
             return from_json(&text, &path.display().to_string());
         }
         "btmb" => {
-            let bytes = std::fs::read(path).map_err(cannot)?;
+            let bytes = usar_world::limits::read_file(path).map_err(|e| e.to_string())?;
             return crate::wire::decode(&bytes).map_err(|e| format!("{}: {e}", path.display()));
         }
         _ => {}

@@ -1,7 +1,8 @@
 //! `usar-btm`: Behavioral Trace Maps (paper 004). The node and link tables ([`model`]), their
 //! SQLite database written while a robot drives ([`store`]), JSON / GraphML exchange
 //! ([`exchange`]), the compact binary form for radio links ([`wire`]), autonomous generation by a robot exploring in the simulator ([`build`])
-//! and its locomotion behaviours ([`locomotion`]).
+//! and its locomotion behaviours ([`locomotion`]). Every map read from a file is checked
+//! ([`validate`]) before it is used.
 
 pub mod build;
 pub mod exchange;
@@ -11,6 +12,7 @@ pub mod model;
 pub mod plan;
 pub mod render;
 pub mod store;
+pub mod validate;
 pub mod wire;
 
 pub use self::build::{BuildConfig, BuildError, BuildOutcome, StopReason, build_btm};

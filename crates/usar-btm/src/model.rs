@@ -2,9 +2,11 @@
 //! features, links between them.
 //!
 //! Units are SI (metres, radians) although the paper's tables use millimetres and degrees.
-//! Node kinds and subtypes are open strings: the paper's ([`kind`], [`subtype`]) and new ones
+//! Node kinds and subtypes are open names: the paper's ([`kind`], [`subtype`]) and new ones
 //! (a `victim`, a `hazard`, …) coexist, and attributes a reader does not know travel in
-//! `extra`, so maps written by newer versions still load.
+//! `extra`, so maps written by newer versions still load. A kind this version does not know
+//! ([`kind::is_known`]) is kept as read; what a map read from a file must be (names, finite
+//! measures, links between existing nodes) is in [`crate::validate`].
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -22,6 +24,16 @@ pub mod kind {
     /// Extensions beyond the paper.
     pub const VICTIM: &str = "victim";
     pub const HAZARD: &str = "hazard";
+
+    /// The kinds this version knows (the paper's and its extensions).
+    pub const KNOWN: [&str; 6] = [TERMINAL, DIVERGENCE, FREE_SPACE, OBSTACLE, VICTIM, HAZARD];
+
+    /// Whether this version knows `kind`. Other kinds (written by a newer version or another
+    /// tool) load and are kept; they are drawn in the colour of extensions and planned through
+    /// by their measured attributes like any node.
+    pub fn is_known(kind: &str) -> bool {
+        KNOWN.contains(&kind)
+    }
 }
 
 /// The paper's subtypes (divergence features, free-space ends, obstacle shapes).

@@ -14,6 +14,8 @@
 //! this reader, and their attributes travel in `extra`.
 
 use crate::model::{Btm, Extra, Link, Node};
+use crate::validate::Invalid;
+use rusqlite::types::Value;
 use rusqlite::{Connection, OptionalExtension, params};
 use std::path::{Path, PathBuf};
 
@@ -220,78 +222,198 @@ impl BtmStore {
         tx.commit().map_err(db)
     }
 
-    /// Reads the whole map, nodes and links by id.
+    /// Reads the whole map, nodes and links by id, and checks it ([`crate::validate`]): a
+    /// value of the wrong type, a non-finite or out-of-range measure, a malformed kind, a link
+    /// to a missing node is an [`BtmError::Invalid`] naming the node or link and the field.
     pub fn load(&self) -> Result<Btm, BtmError> {
-        let extra = |id: u32, what: &str, text: String| -> Result<Extra, BtmError> {
-            serde_json::from_str(&text).map_err(|e| BtmError::Invalid {
-                path: self.path.display().to_string(),
-                what: format!("{what} {id} column extra"),
-                message: format!("found {text:?}, expected a JSON object ({e})"),
-            })
-        };
-        let mut stmt = self
-            .conn
-            .prepare(
-                "SELECT id, x_m, y_m, kind, subtype, slope_inclination_rad, step_height_m, \
-                 max_robot_inclination_rad, operator_note, extra FROM nodes ORDER BY id",
-            )
-            .map_err(|e| self.db(e))?;
-        let rows: Vec<(Node, String)> = stmt
-            .query_map([], |r| {
-                Ok((
-                    Node {
-                        id: r.get(0)?,
-                        x_m: r.get(1)?,
-                        y_m: r.get(2)?,
-                        kind: r.get(3)?,
-                        subtype: r.get(4)?,
-                        slope_inclination_rad: r.get(5)?,
-                        step_height_m: r.get(6)?,
-                        max_robot_inclination_rad: r.get(7)?,
-                        operator_note: r.get(8)?,
-                        extra: Extra::new(),
-                    },
-                    r.get(9)?,
-                ))
-            })
-            .and_then(|rows| rows.collect())
-            .map_err(|e| self.db(e))?;
         let mut btm = Btm::default();
-        for (mut n, e) in rows {
-            n.extra = extra(n.id, "node", e)?;
-            btm.nodes.push(n);
-        }
-        let mut stmt = self
-            .conn
-            .prepare(
-                "SELECT id, start, end, searched, direction_rad, length_m, min_width_m, \
-                 max_inclination_rad, max_step_m, extra FROM links ORDER BY id",
-            )
-            .map_err(|e| self.db(e))?;
-        let rows: Vec<(Link, String)> = stmt
-            .query_map([], |r| {
-                Ok((
-                    Link {
-                        id: r.get(0)?,
-                        start: r.get(1)?,
-                        end: r.get(2)?,
-                        searched: r.get(3)?,
-                        direction_rad: r.get(4)?,
-                        length_m: r.get(5)?,
-                        min_width_m: r.get(6)?,
-                        max_inclination_rad: r.get(7)?,
-                        max_step_m: r.get(8)?,
-                        extra: Extra::new(),
+        let nodes = self.count("nodes", crate::validate::MAX_NODES)?;
+        btm.nodes.reserve(nodes);
+        self.rows(
+            "SELECT id, x_m, y_m, kind, subtype, slope_inclination_rad, step_height_m, \
+             max_robot_inclination_rad, operator_note, extra FROM nodes ORDER BY id",
+            "node",
+            |v| {
+                let id = v.id(0, "id")?;
+                v.named(format!("node {id}"));
+                btm.nodes.push(Node {
+                    id,
+                    x_m: v.real(1, "x_m")?,
+                    y_m: v.real(2, "y_m")?,
+                    kind: v.text(3, "kind")?,
+                    subtype: v.opt_text(4, "subtype")?,
+                    slope_inclination_rad: v.opt_real(5, "slope_inclination_rad")?,
+                    step_height_m: v.opt_real(6, "step_height_m")?,
+                    max_robot_inclination_rad: v.opt_real(7, "max_robot_inclination_rad")?,
+                    operator_note: v.opt_text(8, "operator_note")?,
+                    extra: v.extra(9)?,
+                });
+                Ok(())
+            },
+        )?;
+        let links = self.count("links", crate::validate::MAX_LINKS)?;
+        btm.links.reserve(links);
+        self.rows(
+            "SELECT id, start, end, searched, direction_rad, length_m, min_width_m, \
+             max_inclination_rad, max_step_m, extra FROM links ORDER BY id",
+            "link",
+            |v| {
+                let id = v.id(0, "id")?;
+                v.named(format!("link {id}"));
+                btm.links.push(Link {
+                    id,
+                    start: v.id(1, "start")?,
+                    end: match v.is_null(2) {
+                        true => None,
+                        false => Some(v.id(2, "end")?),
                     },
-                    r.get(9)?,
-                ))
-            })
-            .and_then(|rows| rows.collect())
-            .map_err(|e| self.db(e))?;
-        for (mut l, e) in rows {
-            l.extra = extra(l.id, "link", e)?;
-            btm.links.push(l);
-        }
+                    searched: v.flag(3, "searched")?,
+                    direction_rad: v.real(4, "direction_rad")?,
+                    length_m: v.opt_real(5, "length_m")?,
+                    min_width_m: v.opt_real(6, "min_width_m")?,
+                    max_inclination_rad: v.opt_real(7, "max_inclination_rad")?,
+                    max_step_m: v.opt_real(8, "max_step_m")?,
+                    extra: v.extra(9)?,
+                });
+                Ok(())
+            },
+        )?;
+        crate::validate::check(&btm).map_err(|e| self.invalid(e))?;
         Ok(btm)
+    }
+
+    fn invalid(&self, e: Invalid) -> BtmError {
+        BtmError::Invalid {
+            path: self.path.display().to_string(),
+            what: format!("{} field `{}`", e.what, e.field),
+            message: format!("found {}, expected {}", e.found, e.expected),
+        }
+    }
+
+    /// The rows of `table`, refused above `limit` before any is read.
+    fn count(&self, table: &str, limit: usize) -> Result<usize, BtmError> {
+        let n: i64 = self
+            .conn
+            .query_row(&format!("SELECT count(*) FROM {table}"), [], |r| r.get(0))
+            .map_err(|e| self.db(e))?;
+        if n as u64 > limit as u64 {
+            return Err(self.invalid(
+                Invalid::new(format!("table {table}"), "rows", n.to_string())
+                    .expected(format!("at most {limit}")),
+            ));
+        }
+        Ok(n as usize)
+    }
+
+    /// Runs `sql` and hands each row's values to `each`.
+    fn rows(
+        &self,
+        sql: &str,
+        what: &str,
+        mut each: impl FnMut(&mut Values) -> Result<(), Invalid>,
+    ) -> Result<(), BtmError> {
+        let mut stmt = self.conn.prepare(sql).map_err(|e| self.db(e))?;
+        let columns = stmt.column_count();
+        let mut rows = stmt.query([]).map_err(|e| self.db(e))?;
+        let mut index = 0usize;
+        while let Some(row) = rows.next().map_err(|e| self.db(e))? {
+            index += 1;
+            let values = (0..columns)
+                .map(|i| row.get::<_, Value>(i))
+                .collect::<rusqlite::Result<Vec<_>>>()
+                .map_err(|e| self.db(e))?;
+            let mut v = Values {
+                what: format!("{what} in row {index}"),
+                values,
+            };
+            each(&mut v).map_err(|e| self.invalid(e))?;
+        }
+        Ok(())
+    }
+}
+
+/// One row's values, converted with errors naming the node or link and the column.
+struct Values {
+    what: String,
+    values: Vec<Value>,
+}
+
+fn found(v: &Value) -> String {
+    match v {
+        Value::Null => "NULL".into(),
+        Value::Integer(i) => i.to_string(),
+        Value::Real(f) => f.to_string(),
+        Value::Text(t) => format!("text {}", crate::validate::quoted(t)),
+        Value::Blob(b) => format!("a blob of {} bytes", b.len()),
+    }
+}
+
+impl Values {
+    fn named(&mut self, what: String) {
+        self.what = what;
+    }
+
+    fn bad(&self, i: usize, field: &'static str, expected: &str) -> Invalid {
+        Invalid::new(self.what.clone(), field, found(&self.values[i])).expected(expected)
+    }
+
+    fn is_null(&self, i: usize) -> bool {
+        matches!(self.values[i], Value::Null)
+    }
+
+    fn id(&self, i: usize, field: &'static str) -> Result<u32, Invalid> {
+        match self.values[i] {
+            Value::Integer(v) => u32::try_from(v).ok(),
+            _ => None,
+        }
+        .ok_or_else(|| self.bad(i, field, "an id from 0 to 4294967295"))
+    }
+
+    fn opt_real(&self, i: usize, field: &'static str) -> Result<Option<f64>, Invalid> {
+        match self.values[i] {
+            Value::Null => Ok(None),
+            Value::Real(v) => Ok(Some(v)),
+            Value::Integer(v) => Ok(Some(v as f64)),
+            _ => Err(self.bad(i, field, "a number or NULL")),
+        }
+    }
+
+    fn real(&self, i: usize, field: &'static str) -> Result<f64, Invalid> {
+        match self.values[i] {
+            Value::Real(v) => Ok(v),
+            Value::Integer(v) => Ok(v as f64),
+            _ => Err(self.bad(i, field, "a number")),
+        }
+    }
+
+    fn opt_text(&self, i: usize, field: &'static str) -> Result<Option<String>, Invalid> {
+        match &self.values[i] {
+            Value::Null => Ok(None),
+            Value::Text(t) => Ok(Some(t.clone())),
+            _ => Err(self.bad(i, field, "text or NULL")),
+        }
+    }
+
+    fn text(&self, i: usize, field: &'static str) -> Result<String, Invalid> {
+        match &self.values[i] {
+            Value::Text(t) => Ok(t.clone()),
+            _ => Err(self.bad(i, field, "text")),
+        }
+    }
+
+    fn flag(&self, i: usize, field: &'static str) -> Result<bool, Invalid> {
+        match self.values[i] {
+            Value::Integer(0) => Ok(false),
+            Value::Integer(1) => Ok(true),
+            _ => Err(self.bad(i, field, "0 or 1")),
+        }
+    }
+
+    fn extra(&self, i: usize) -> Result<Extra, Invalid> {
+        match &self.values[i] {
+            Value::Text(t) => serde_json::from_str(t).ok(),
+            _ => None,
+        }
+        .ok_or_else(|| self.bad(i, "extra", "a JSON object"))
     }
 }

@@ -23,8 +23,21 @@
 //! Numbers are stored as `f32`: coordinates keep better than 1 mm up to 8 km from the origin,
 //! angles better than 1 µrad. Kinds, subtypes and attribute names are open strings, so new
 //! kinds and attributes travel without a format change.
+//!
+//! Decoding never trusts a count: each is checked against the bytes left (every item takes at
+//! least its smallest encoding) and the limits of [`crate::validate`] before anything is
+//! stored, so a short file declaring billions of nodes is refused at once. The decoded map is
+//! checked like any map read from outside ([`crate::validate::check`]).
 
 use crate::model::{Btm, Extra, Link, Node};
+use crate::validate::{MAX_LINKS, MAX_NODES};
+
+/// The smallest encodings, bytes: a string (its length), a node (id, x, y, kind, subtype,
+/// mask), a link (id, start, end, direction, mask), an attribute (key, value).
+const MIN_STRING: u64 = 1;
+const MIN_NODE: u64 = 1 + 4 + 4 + 1 + 1 + 1;
+const MIN_LINK: u64 = 1 + 1 + 1 + 4 + 1;
+const MIN_ATTRIBUTE: u64 = 2;
 
 const MAGIC: &[u8; 4] = b"BTMB";
 pub const WIRE_VERSION: u8 = 1;
@@ -215,11 +228,19 @@ impl Reader<'_> {
         }
     }
 
-    /// A count, checked against the bytes left (each item takes at least one byte).
-    fn count(&mut self) -> Result<usize, String> {
+    /// A count of `what`, checked against `limit` and against the bytes left (each item
+    /// takes at least `min_bytes`), before anything is allocated for the items.
+    fn count(&mut self, what: &str, min_bytes: u64, limit: u64) -> Result<usize, String> {
+        let at = self.at;
         let n = self.uv()?;
-        if n > (self.bytes.len() - self.at) as u64 {
-            return self.fail(&format!("count {n} is larger than the data left"));
+        let left = (self.bytes.len() - self.at) as u64;
+        if n > limit {
+            return Err(format!("byte {at}: {n} {what}, expected at most {limit}"));
+        }
+        if n.saturating_mul(min_bytes) > left {
+            return Err(format!(
+                "byte {at}: {n} {what} declared, but only {left} bytes are left (at least {min_bytes} a piece)"
+            ));
         }
         Ok(n as usize)
     }
@@ -236,7 +257,7 @@ impl Reader<'_> {
 
     fn extra(&mut self, strings: &[String]) -> Result<Extra, String> {
         let mut extra = Extra::new();
-        for _ in 0..self.count()? {
+        for _ in 0..self.count("attributes", MIN_ATTRIBUTE, u64::MAX)? {
             let (k, v) = (self.uv()?, self.uv()?);
             let key = self.string(strings, k)?.to_string();
             let text = self.string(strings, v)?;
@@ -248,8 +269,15 @@ impl Reader<'_> {
     }
 }
 
-/// Decodes the binary wire form; errors name the byte offset and what was wrong.
+/// Decodes the binary wire form and checks the map ([`crate::validate::check`]); errors name
+/// the byte offset and what was wrong, or the node or link and its field.
 pub fn decode(bytes: &[u8]) -> Result<Btm, String> {
+    let btm = decode_unchecked(bytes)?;
+    crate::validate::check(&btm).map_err(|e| e.to_string())?;
+    Ok(btm)
+}
+
+fn decode_unchecked(bytes: &[u8]) -> Result<Btm, String> {
     let mut r = Reader { bytes, at: 0 };
     if r.take(4).ok() != Some(MAGIC.as_slice()) {
         return Err("byte 0: expected the magic \"BTMB\" of a binary BTM".into());
@@ -261,15 +289,15 @@ pub fn decode(bytes: &[u8]) -> Result<Btm, String> {
         ));
     }
     let mut strings = Vec::new();
-    for _ in 0..r.count()? {
-        let len = r.count()?;
+    for _ in 0..r.count("strings", MIN_STRING, u64::MAX)? {
+        let len = r.count("string bytes", 1, u64::MAX)?;
         let at = r.at;
         let s = std::str::from_utf8(r.take(len)?)
             .map_err(|e| format!("byte {at}: a string that is not UTF-8: {e}"))?;
         strings.push(s.to_string());
     }
     let mut btm = Btm::default();
-    for _ in 0..r.count()? {
+    for _ in 0..r.count("nodes", MIN_NODE, MAX_NODES as u64)? {
         let id = r.id()?;
         let (x, y) = (r.f32()?, r.f32()?);
         let kind = r.uv()?;
@@ -292,7 +320,7 @@ pub fn decode(bytes: &[u8]) -> Result<Btm, String> {
         }
         btm.nodes.push(n);
     }
-    for _ in 0..r.count()? {
+    for _ in 0..r.count("links", MIN_LINK, MAX_LINKS as u64)? {
         let id = r.id()?;
         let start = r.id()?;
         let end = match r.uv()? {

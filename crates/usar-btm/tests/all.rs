@@ -1,3 +1,4 @@
 mod build;
 mod plan;
 mod store;
+mod validate;

@@ -122,7 +122,10 @@ fn json_round_trips_and_keeps_unknown_kinds() {
     let back = from_json(&text, "m.json").unwrap();
     assert_eq!(back, btm);
     let err = from_json(&text.replace("\"start\": 2", "\"start\": 99"), "m.json").unwrap_err();
-    assert!(err.contains("link 2: node 99 does not exist"), "{err}");
+    assert!(
+        err.contains("m.json: link 2 field `start`: found node 99, which does not exist"),
+        "{err}"
+    );
     let err = from_json(&text.replace("\"version\": 1", "\"version\": 7"), "m.json").unwrap_err();
     assert!(err.contains("field `version`: found 7"), "{err}");
 }

@@ -202,6 +202,19 @@ fn line_of(text: &str, key: &str) -> Option<usize> {
         .map(|i| i + 1)
 }
 
+/// Whether a campaign name is one plain path component: ASCII letters, digits, `-`, `_` and
+/// `.`, at most 100 characters, and not `.` or `..` — so `out/campaigns/NAME` stays inside
+/// `out/campaigns`.
+pub fn is_plain_name(name: &str) -> bool {
+    !name.is_empty()
+        && name.len() <= 100
+        && name != "."
+        && name != ".."
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || matches!(b, b'-' | b'_' | b'.'))
+}
+
 /// 64-bit FNV-1a.
 fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
@@ -250,6 +263,15 @@ impl Design {
                 .unwrap_or_default();
             CampaignError::Input(format!("{source}:{at} {msg}"))
         };
+        if !is_plain_name(&campaign.name) {
+            return Err(bad(
+                "name",
+                format!(
+                    "name = {:?}, expected a plain folder name (letters, digits, `-`, `_`, `.`; not `.` or `..`): results go to out/campaigns/NAME",
+                    campaign.name
+                ),
+            ));
+        }
         if campaign.runner != runner.name() {
             return Err(bad(
                 "runner",

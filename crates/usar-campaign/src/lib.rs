@@ -10,6 +10,7 @@ pub mod design;
 pub mod engine;
 pub mod error;
 pub mod export;
+pub mod lock;
 pub mod report;
 pub mod runner;
 pub mod stats;
@@ -18,6 +19,7 @@ pub mod store;
 pub use self::design::{CampaignFile, Config, Design, Level};
 pub use self::engine::{RunReport, Shard, run_design};
 pub use self::error::{CampaignError, Result};
+pub use self::lock::FolderLock;
 pub use self::runner::{
     FactorKind, FactorSpec, MetricSpec, NoopRunner, RunOutput, Runner, SeriesPoint,
 };

@@ -3,7 +3,8 @@
 //! sd band per row level, and a bar chart with sd error bars per metric.
 
 use crate::design::{CampaignFile, Comparison, Level, TestKind};
-use crate::error::Result;
+use crate::error::{CampaignError, Result};
+use crate::lock::FolderLock;
 use crate::stats::{self, Summary, Tails};
 use crate::store::StoredRun;
 use serde::Serialize;
@@ -413,6 +414,69 @@ impl Report {
         }
         out + "</body></html>\n"
     }
+}
+
+/// A report folder opened for writing: created, locked (one report writes it at a time) and
+/// cleared of the temporary files a killed report left.
+#[derive(Debug)]
+pub struct ReportFolder {
+    pub dir: PathBuf,
+    /// Stale temporary files removed on opening.
+    pub removed: Vec<PathBuf>,
+    _lock: FolderLock,
+}
+
+impl ReportFolder {
+    /// Creates `dir` if needed, takes its lock (another report writing it is refused at once)
+    /// and removes the temporary files of earlier reports that were killed while writing
+    /// (see [`is_report_temporary`]).
+    pub fn open(dir: &Path) -> Result<Self> {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CampaignError::Input(format!("{}: cannot create the folder: {e}", dir.display()))
+        })?;
+        let lock = FolderLock::exclusive(dir, "campaign report")?;
+        let entries = std::fs::read_dir(dir).map_err(|e| {
+            CampaignError::Input(format!("{}: cannot list the folder: {e}", dir.display()))
+        })?;
+        let mut removed = Vec::new();
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+            if is_file && name.to_str().is_some_and(is_report_temporary) {
+                let path = entry.path();
+                std::fs::remove_file(&path).map_err(|e| {
+                    CampaignError::Input(format!("{}: cannot remove: {e}", path.display()))
+                })?;
+                removed.push(path);
+            }
+        }
+        removed.sort();
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            removed,
+            _lock: lock,
+        })
+    }
+}
+
+/// Whether `name` is a temporary file of a report's atomic write ([`usar_world::write_atomic`]:
+/// `.TARGET.tmp-PID`) whose target is a file a report writes: `report.md`, `report.html`,
+/// `series_*` and `bars_*` plots (`.png`, `.svg`).
+pub fn is_report_temporary(name: &str) -> bool {
+    let Some((target, pid)) = name
+        .strip_prefix('.')
+        .and_then(|rest| rest.rsplit_once(".tmp-"))
+    else {
+        return false;
+    };
+    let plot = |prefix: &str| {
+        target.strip_prefix(prefix).is_some_and(|rest| {
+            !rest.is_empty() && (rest.ends_with(".png") || rest.ends_with(".svg"))
+        })
+    };
+    !pid.is_empty()
+        && pid.bytes().all(|b| b.is_ascii_digit())
+        && (target == "report.md" || target == "report.html" || plot("series_") || plot("bars_"))
 }
 
 /// Draws the plots into `dir` (PNG and SVG each): every `series` metric over x with a mean ± sd

@@ -16,9 +16,16 @@
 //!
 //! A database is opened only after checking that it is one of ours and holds the same design;
 //! nothing is written to a file that fails the check.
+//!
+//! [`Store::open_or_create`] holds the folder's lock ([`crate::lock`]) for as long as the store
+//! is open: a second `usar campaign run` on the folder is refused at once, and the database is
+//! created (beside its final name, then renamed) by one process only. A `results.sqlite` that an
+//! interrupted creation of an older version left behind — an empty file, or a database with
+//! some of the tables but no design and no runs — holds nothing and is created anew.
 
 use crate::design::{Config, Design};
 use crate::error::{CampaignError, Result};
+use crate::lock::FolderLock;
 use crate::runner::RunOutput;
 use rusqlite::{Connection, OpenFlags, params};
 use std::collections::BTreeMap;
@@ -69,7 +76,14 @@ pub struct StoredRun {
 pub struct Store {
     conn: Connection,
     path: PathBuf,
+    /// The folder's lock, held while a run writes (dropped after the connection).
+    _lock: Option<FolderLock>,
 }
+
+/// The tables of [`SCHEMA`].
+const TABLES: [&str; 5] = ["meta", "runs", "metrics", "series", "timings"];
+/// The `meta` keys a complete database has.
+const META_KEYS: [&str; 4] = ["format", "version", "design_hash", "campaign"];
 
 /// One finished run on its way to the database.
 pub struct Finished {
@@ -89,11 +103,21 @@ impl Store {
     }
 
     /// Opens the database in `dir` for `design`, creating it (and `dir`) if there is none. An
-    /// existing file must be a usar campaign database of the same design.
+    /// existing file must be a usar campaign database of the same design. The store holds the
+    /// folder's lock exclusively until it is dropped; a folder another process holds is
+    /// refused at once (an input error naming that process).
     pub fn open_or_create(dir: &Path, design: &Design) -> Result<Self> {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CampaignError::Input(format!("{}: cannot create the folder: {e}", dir.display()))
+        })?;
+        let lock = FolderLock::exclusive(dir, "campaign run")?;
         let path = Self::path_in(dir);
+        if path.exists() && left_by_interrupted_creation(&path) {
+            remove_database(&path)?;
+        }
         if path.exists() {
-            let store = Self::open(&path)?;
+            let mut store = Self::open(&path)?;
+            store._lock = Some(lock);
             let found = store.meta("design_hash")?;
             if found != design.hash {
                 let name = store.campaign_name().unwrap_or_else(|_| "?".into());
@@ -106,10 +130,9 @@ impl Store {
             }
             return Ok(store);
         }
-        std::fs::create_dir_all(dir).map_err(|e| {
-            CampaignError::Input(format!("{}: cannot create the folder: {e}", dir.display()))
-        })?;
-        Self::create(&path, design)
+        let mut store = Self::create(&path, design)?;
+        store._lock = Some(lock);
+        Ok(store)
     }
 
     /// Creates a new database at `path` for `design`.
@@ -122,7 +145,8 @@ impl Store {
     /// place, so a crash never leaves a database without its design.
     fn create_with(path: &Path, design_hash: &str, campaign_json: &str) -> Result<Self> {
         let tmp = path.with_extension("sqlite.partial");
-        let _ = std::fs::remove_file(&tmp);
+        // Left by a killed creation (the caller holds the folder's lock: nobody is writing it).
+        remove_database(&tmp)?;
         {
             let conn = Connection::open(&tmp).map_err(|e| CampaignError::db(&tmp, e))?;
             let db = |e| CampaignError::db(&tmp, e);
@@ -152,12 +176,19 @@ impl Store {
                 path.display()
             )));
         }
+        if std::fs::metadata(path).is_ok_and(|m| m.len() == 0) {
+            return Err(CampaignError::Input(format!(
+                "{}: an empty file (left by an interrupted `usar campaign run`), expected a result database; run the campaign again to create it",
+                path.display()
+            )));
+        }
         let flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let conn =
             Connection::open_with_flags(path, flags).map_err(|e| foreign(path, &e.to_string()))?;
         let store = Store {
             conn,
             path: path.to_path_buf(),
+            _lock: None,
         };
         let format: std::result::Result<String, _> =
             store
@@ -396,6 +427,69 @@ impl Store {
     }
 }
 
+/// Whether `path` is what an interrupted creation left: an empty file, or a SQLite database
+/// holding none but (some of) our tables, no results in them, and not every `meta` key of a complete
+/// database. Anything else — a complete database, a foreign one, garbage — is not.
+fn left_by_interrupted_creation(path: &Path) -> bool {
+    match std::fs::metadata(path) {
+        Ok(m) if m.len() == 0 => return true,
+        Ok(_) => {}
+        Err(_) => return false,
+    }
+    let flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    let Ok(conn) = Connection::open_with_flags(path, flags) else {
+        return false;
+    };
+    let tables: rusqlite::Result<Vec<String>> = conn
+        .prepare("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")
+        .and_then(|mut s| s.query_map([], |r| r.get(0))?.collect());
+    let Ok(tables) = tables else {
+        return false;
+    };
+    if !tables.iter().all(|t| TABLES.contains(&t.as_str())) {
+        return false;
+    }
+    // No results in any table (the names are ours, checked above).
+    for t in tables.iter().filter(|t| *t != "meta") {
+        let rows: rusqlite::Result<i64> =
+            conn.query_row(&format!("SELECT count(*) FROM {t}"), [], |r| r.get(0));
+        if rows != Ok(0) {
+            return false;
+        }
+    }
+    if !tables.iter().any(|t| t == "meta") {
+        return true;
+    }
+    let keys: rusqlite::Result<i64> = conn.query_row(
+        &format!(
+            "SELECT count(DISTINCT key) FROM meta WHERE key IN ({})",
+            META_KEYS.map(|k| format!("'{k}'")).join(", ")
+        ),
+        [],
+        |r| r.get(0),
+    );
+    keys.is_ok_and(|n| n < META_KEYS.len() as i64)
+}
+
+/// Removes a database file and its rollback journal (neither need exist).
+fn remove_database(path: &Path) -> Result<()> {
+    let mut journal = path.as_os_str().to_owned();
+    journal.push("-journal");
+    for p in [path.to_path_buf(), PathBuf::from(journal)] {
+        match std::fs::remove_file(&p) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => {
+                return Err(CampaignError::Input(format!(
+                    "{}: cannot remove: {e}",
+                    p.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn foreign(path: &Path, why: &str) -> CampaignError {
     CampaignError::Input(format!(
         "{}: not a usar campaign result database ({why}); expected a `results.sqlite` written by `usar campaign run`",
@@ -404,8 +498,9 @@ fn foreign(path: &Path, why: &str) -> CampaignError {
 }
 
 /// Merges the result databases of `inputs` (shards of one design) into a new database at
-/// `out_dir`. Refuses mismatched designs and runs that differ between inputs; writes to a
-/// temporary file renamed into place, so a failed merge leaves nothing behind.
+/// `out_dir`. Refuses mismatched designs and runs that differ between inputs, and inputs or an
+/// output folder another process is using ([`crate::lock`]); writes to a temporary file
+/// renamed into place, so a failed merge leaves no database behind.
 pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> Result<(usize, u64)> {
     let Some(first) = inputs.first() else {
         return Err(CampaignError::Input(
@@ -419,9 +514,19 @@ pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> Result<(usize, u64)> {
             out.display()
         )));
     }
+    // Each input is read under its folder's shared lock: a shard still being run is refused.
     let stores: Vec<Store> = inputs
         .iter()
-        .map(|d| Store::open(&Store::path_in(d)))
+        .map(|d| {
+            let lock = if d.is_dir() {
+                FolderLock::shared(d)?
+            } else {
+                None
+            };
+            let mut store = Store::open(&Store::path_in(d))?;
+            store._lock = lock;
+            Ok(store)
+        })
         .collect::<Result<_>>()?;
     let hash = stores[0].meta("design_hash")?;
     let campaign = stores[0].meta("campaign")?;
@@ -469,6 +574,14 @@ pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> Result<(usize, u64)> {
             out_dir.display()
         ))
     })?;
+    // The new folder is ours alone while the database is written; checked again under the lock.
+    let _lock = FolderLock::exclusive(out_dir, "campaign merge")?;
+    if out.exists() {
+        return Err(CampaignError::Input(format!(
+            "{}: already exists; merge writes a new result database, expected an empty --out folder",
+            out.display()
+        )));
+    }
     // Built beside the final name and renamed: a failed merge leaves no database behind.
     let tmp = out_dir.join(format!("{DB_FILE}.merging"));
     let _ = std::fs::remove_file(&tmp);

@@ -156,12 +156,17 @@ fn a_database_of_another_design_is_refused_and_left_untouched() {
 #[test]
 fn corrupt_and_foreign_files_are_refused_and_left_untouched() {
     let d = design(CAMPAIGN);
+    // (An empty file is what an interrupted creation leaves: it is created anew, see
+    // folders.rs; a file with content is never deleted.)
     for (what, bytes) in [
         (
             "garbage",
             b"this is not a database at all, just some text".repeat(200),
         ),
-        ("empty", Vec::new()),
+        (
+            "garbage with a SQLite header",
+            b"SQLite format 3\0 but not really".repeat(64),
+        ),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let path = Store::path_in(dir.path());

@@ -128,7 +128,7 @@ fn merge_show_and_bad_input() {
     std::fs::write(&bad, MAP.replace("\"end\": 4", "\"end\": 44")).unwrap();
     assert_bad_input(
         &usar(&["btm", "export", bad.to_str().unwrap(), "--json"]),
-        "node 44 does not exist",
+        "bad.json: link 3 field `end`: found node 44, which does not exist",
     );
     let junk = dir.path().join("junk.sqlite");
     std::fs::write(&junk, "junk").unwrap();
@@ -359,4 +359,151 @@ fn build_with_bad_input_is_an_error_and_leaves_no_file() {
     assert_bad_input(&out, "course");
     assert!(!db.exists());
     assert!(!dir.path().join("x.sqlite.partial").exists());
+}
+
+#[test]
+fn a_bad_map_in_any_form_is_exit_2_with_one_line_naming_the_file_the_item_and_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    // A link of negative length (once planned through as a shortcut).
+    let json = dir.path().join("negative.json");
+    std::fs::write(
+        &json,
+        MAP.replace("\"length_m\": 5.0", "\"length_m\": -77.99"),
+    )
+    .unwrap();
+    let out = usar(&[
+        "btm",
+        "plan",
+        json.to_str().unwrap(),
+        "--from",
+        "1",
+        "--to",
+        "4",
+    ]);
+    assert_bad_input(
+        &out,
+        &format!(
+            "{}: link 1 field `length_m`: found -77.99, expected a finite distance",
+            json.display()
+        ),
+    );
+    // An infinite coordinate in a database (once exported to a file that could not be read).
+    let db = dir.path().join("inf.sqlite");
+    let mut btm = usar_btm::exchange::from_json(MAP, "m.json").unwrap();
+    btm.nodes[1].x_m = f64::INFINITY;
+    usar_btm::BtmStore::create(&db)
+        .unwrap()
+        .put_all(&btm)
+        .unwrap();
+    let out = usar(&[
+        "btm",
+        "export",
+        db.to_str().unwrap(),
+        "--out",
+        dir.path().join("x.json").to_str().unwrap(),
+    ]);
+    assert_bad_input(&out, "inf.sqlite: node 2 field `x_m`: found inf");
+    assert!(!dir.path().join("x.json").exists());
+    // A negative width and a link to a missing node in the binary form.
+    let mut btm = usar_btm::exchange::from_json(MAP, "m.json").unwrap();
+    btm.links[2].min_width_m = Some(-0.6);
+    let btmb = dir.path().join("w.btmb");
+    std::fs::write(&btmb, usar_btm::wire::encode(&btm)).unwrap();
+    assert_bad_input(
+        &usar(&[
+            "btm",
+            "show",
+            btmb.to_str().unwrap(),
+            "--out",
+            dir.path().join("w.svg").to_str().unwrap(),
+        ]),
+        "w.btmb: link 3 field `min_width_m`: found -0.6",
+    );
+    // A binary map declaring a billion nodes in a few bytes.
+    let huge = dir.path().join("huge.btmb");
+    std::fs::write(&huge, b"BTMB\x01\x00\x80\x94\xeb\xdc\x03").unwrap();
+    assert_bad_input(
+        &usar(&["btm", "export", huge.to_str().unwrap(), "--json"]),
+        "1000000000 nodes, expected at most 1000000",
+    );
+}
+
+#[test]
+fn export_json_has_the_fields_its_help_and_the_docs_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("m.json");
+    std::fs::write(
+        &json,
+        MAP.replace(
+            "\"kind\": \"divergence\", \"subtype\": \"corner\"",
+            "\"kind\": \"gas_leak\"",
+        ),
+    )
+    .unwrap();
+    let out = usar(&["btm", "export", json.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let keys =
+        |o: &serde_json::Value| -> Vec<String> { o.as_object().unwrap().keys().cloned().collect() };
+    assert_eq!(
+        keys(&v),
+        [
+            "links",
+            "links_searched",
+            "links_unsearched",
+            "nodes",
+            "nodes_by_kind"
+        ]
+    );
+    assert_eq!(
+        keys(&v["nodes"][0]),
+        [
+            "id",
+            "kind",
+            "link_angles_rad",
+            "links",
+            "max_robot_inclination_rad",
+            "operator_note",
+            "slope_inclination_rad",
+            "step_height_m",
+            "subtype",
+            "x_m",
+            "y_m"
+        ]
+    );
+    assert_eq!(
+        keys(&v["links"][0]),
+        [
+            "direction_rad",
+            "end",
+            "id",
+            "length_m",
+            "max_inclination_rad",
+            "max_step_m",
+            "min_width_m",
+            "searched",
+            "start"
+        ]
+    );
+    assert_eq!(v["nodes_by_kind"]["gas_leak"], 1, "an unknown kind is kept");
+    let help = usar(&["btm", "export", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout).replace(char::is_whitespace, "");
+    for field in ["`kind`", "`x_m`", "`y_m`", "`searched`", "`nodes_by_kind`"] {
+        assert!(help.contains(field), "{field} not in the help: {help}");
+    }
+    for old in ["type,", "x,y", "status"] {
+        assert!(!help.contains(old), "{old} in the help: {help}");
+    }
+    let docs = include_str!("../../../docs/btm-format.md");
+    for field in ["`x_m`", "`kind`", "`searched`", "`link_angles_rad`"] {
+        assert!(docs.contains(field), "{field} not in docs/btm-format.md");
+    }
+    // The text summary names the kinds this version does not know.
+    let out = usar(&["btm", "export", json.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("kept as read: gas_leak ×1"), "{text}");
 }

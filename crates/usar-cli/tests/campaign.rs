@@ -110,6 +110,10 @@ fn smoke_killed_midway_resumes_to_the_same_results_as_shards_merged() {
 /// and statrs' distributions directly.
 fn report_agrees_with_a_recomputation_from_the_csv(dir: &Path, csv_path: &Path) {
     use statrs::distribution::{ContinuousCDF, StudentsT};
+    // A report killed while writing left a temporary file: the next report removes it.
+    std::fs::create_dir_all(dir.join("report")).unwrap();
+    let stale = dir.join("report").join(".report.md.tmp-999999");
+    std::fs::write(&stale, "half a report").unwrap();
     ok(&usar(&[
         "campaign",
         "export",
@@ -182,6 +186,7 @@ fn report_agrees_with_a_recomputation_from_the_csv(dir: &Path, csv_path: &Path) 
     assert!((welch["df"][0].as_f64().unwrap() - df).abs() < 1e-6);
     assert!((welch["p"].as_f64().unwrap() - p).abs() < 1e-6);
     assert!(dir.join("report").join("series_coverage.svg").is_file());
+    assert!(!stale.exists(), "the stale temporary file is removed");
 }
 
 #[test]
@@ -274,4 +279,78 @@ fn output_into_a_closed_pipe_ends_quietly() {
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn a_folder_in_use_is_refused_at_once_with_exit_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("busy");
+    std::fs::create_dir(&dir).unwrap();
+    // This process holds the folder as a run would.
+    let lock = usar_campaign::FolderLock::exclusive(&dir, "campaign run").unwrap();
+    let busy = format!(
+        "{}: another `usar campaign run` (pid {}) is using this folder",
+        dir.display(),
+        std::process::id()
+    );
+    let run = || {
+        usar(&[
+            "campaign",
+            "run",
+            "--preset",
+            "smoke",
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+    };
+    assert_bad_input(&run(), &busy);
+    assert!(!Store::path_in(&dir).exists(), "nothing created");
+    let merged = tmp.path().join("m");
+    assert_bad_input(
+        &usar(&[
+            "campaign",
+            "merge",
+            dir.to_str().unwrap(),
+            "--out",
+            merged.to_str().unwrap(),
+        ]),
+        &busy,
+    );
+    drop(lock);
+    // Released: the run goes ahead, an empty results file (an older version's interrupted
+    // creation) notwithstanding.
+    std::fs::write(Store::path_in(&dir), b"").unwrap();
+    let out = usar(&[
+        "campaign",
+        "run",
+        "--preset",
+        "smoke",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    ok(&out);
+    assert_eq!(stored(&dir), 30);
+}
+
+#[test]
+fn a_campaign_name_that_is_not_a_plain_folder_name_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let smoke = include_str!("../../../campaigns/smoke.toml");
+    for name in ["../../../escaped", "/tmp/escaped", ".."] {
+        let f = tmp.path().join("c.toml");
+        std::fs::write(
+            &f,
+            smoke.replace("name = \"smoke\"", &format!("name = {name:?}")),
+        )
+        .unwrap();
+        let out = usar(&["campaign", "run", f.to_str().unwrap()]);
+        assert_bad_input(
+            &out,
+            &format!(
+                "{}: line 3: name = {name:?}, expected a plain folder name",
+                f.display()
+            ),
+        );
+    }
 }

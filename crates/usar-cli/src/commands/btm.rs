@@ -8,6 +8,7 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use usar_btm::build::{BuildConfig, build_btm_observed};
+use usar_btm::model::kind;
 use usar_btm::plan::{RobotLimits, nearest_node, plan};
 use usar_btm::{Btm, BtmStore, exchange, render};
 use usar_world::{Point2, Pose2};
@@ -228,8 +229,22 @@ fn export(args: BtmExportArgs) -> CmdResult {
     if args.json {
         return print_json(&describe(&btm));
     }
+    // Kinds this version does not know are kept as read; say which there are.
+    let mut unknown: std::collections::BTreeMap<&str, usize> = Default::default();
+    for n in btm.nodes.iter().filter(|n| !kind::is_known(&n.kind)) {
+        *unknown.entry(n.kind.as_str()).or_default() += 1;
+    }
+    let unknown = if unknown.is_empty() {
+        String::new()
+    } else {
+        let list: Vec<String> = unknown.iter().map(|(k, n)| format!("{k} ×{n}")).collect();
+        format!(
+            " (nodes of kinds this usar does not know, kept as read: {})",
+            list.join(", ")
+        )
+    };
     println!(
-        "{}: {} nodes, {} links{}",
+        "{}: {} nodes, {} links{unknown}{}",
         args.btm.display(),
         btm.nodes.len(),
         btm.links.len(),

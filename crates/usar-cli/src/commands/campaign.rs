@@ -144,10 +144,11 @@ fn report(args: CampaignReportArgs) -> CmdResult {
     let runs = store.runs().map_err(fail)?;
     let metrics: Vec<String> = runner.metrics().into_iter().map(|m| m.name).collect();
     let rep = report::build(&campaign, &runs, &metrics);
-    let dir = args.dir.join("report");
-    std::fs::create_dir_all(&dir)?;
+    // One report at a time writes the folder; temporary files a killed report left go first.
+    let folder = report::ReportFolder::open(&args.dir.join("report")).map_err(fail)?;
+    let dir = &folder.dir;
     let plots =
-        report::write_plots(&rep, &campaign, &runs, runner.series_x(), &dir).map_err(fail)?;
+        report::write_plots(&rep, &campaign, &runs, runner.series_x(), dir).map_err(fail)?;
     let (name, text) = match args.format {
         ReportFormat::Md => ("report.md", rep.to_markdown(&plots)),
         ReportFormat::Html => ("report.html", rep.to_html(&plots)),
