@@ -225,16 +225,8 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 impl Design {
     /// Parses a campaign file's text; `source` names it in messages.
     pub fn parse(text: &str, source: &str, runner: &dyn Runner) -> Result<Self> {
-        let campaign: CampaignFile = toml::from_str(text).map_err(|e| {
-            let span = e
-                .span()
-                .map(|s| format!(" line {}:", text[..s.start].matches('\n').count() + 1))
-                .unwrap_or_default();
-            CampaignError::Input(format!(
-                "{source}:{span} {}",
-                e.message().trim().replace('\n', " ")
-            ))
-        })?;
+        let campaign: CampaignFile =
+            toml::from_str(text).map_err(|e| toml_error(text, source, &e))?;
         Self::new(campaign, source, text, runner)
     }
 
@@ -437,10 +429,10 @@ pub fn runner_named(
     struct Head {
         runner: Option<String>,
     }
-    let head: Head = toml::from_str::<toml::Table>(text)
-        .ok()
-        .and_then(|t| t.try_into().ok())
-        .unwrap_or(Head { runner: None });
+    // A file that is not TOML at all gets its syntax error here (a duplicate key used to read
+    // as a missing runner); a wrong field is left to `Design::parse`, which names it.
+    let table = toml::from_str::<toml::Table>(text).map_err(|e| toml_error(text, source, &e))?;
+    let head: Head = table.try_into().unwrap_or(Head { runner: None });
     let name = head.runner.ok_or_else(|| {
         CampaignError::Input(format!(
             "{source}: missing `runner = \"...\"`, expected the name of a runner (e.g. explore)"
@@ -452,6 +444,14 @@ pub fn runner_named(
             .unwrap_or_default();
         CampaignError::Input(format!("{source}:{at} unknown runner `{name}`"))
     })
+}
+
+/// A TOML error of a campaign file as one line: `SOURCE: line L, column C: message`.
+fn toml_error(text: &str, source: &str, e: &toml::de::Error) -> CampaignError {
+    CampaignError::Input(format!(
+        "{source}: {}",
+        usar_world::toml_error_line(text, e)
+    ))
 }
 
 fn check_report(

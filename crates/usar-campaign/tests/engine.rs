@@ -74,7 +74,17 @@ fn unknown_factors_and_keys_are_errors_naming_the_line() {
     .unwrap_err()
     .to_string();
     assert!(
-        err.contains("f.toml: line 4:") && err.contains("rusn"),
+        err.contains("f.toml: line 4, column 1:") && err.contains("rusn"),
+        "{err}"
+    );
+    // A duplicate key is named as one (it used to read as a missing runner).
+    let twice = CAMPAIGN.replace("runs = 4", "runs = 4\nruns = 5");
+    let Err(err) = usar_campaign::design::runner_named(&twice, "f.toml", |_| None) else {
+        panic!("a duplicate key was accepted");
+    };
+    let err = err.to_string();
+    assert!(
+        err.contains("f.toml: line 5, column 1: duplicate key `runs`"),
         "{err}"
     );
     let err = Design::parse(&CAMPAIGN.replace("\"y\"", "\"w\""), "f.toml", &NoopRunner)
