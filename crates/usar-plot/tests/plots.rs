@@ -62,6 +62,25 @@ fn bar_chart_and_unknown_extension() {
         ],
     };
     bars.save(&dir.path().join("b.png")).unwrap();
+    // The saved picture: the chart's size, and bars whose coloured areas stand in the ratio of
+    // their values (800 : 650; both start at 0), one in each half of the plot.
+    let img = image::open(dir.path().join("b.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (960, 600));
+    let coloured = |xs: std::ops::Range<u32>| {
+        xs.flat_map(|x| (0..600).map(move |y| (x, y)))
+            .filter(|&(x, y)| {
+                let [r, g, b] = img.get_pixel(x, y).0.map(i32::from);
+                (r - g).abs() + (g - b).abs() + (b - r).abs() > 90
+            })
+            .count() as f64
+    };
+    let (left, right) = (coloured(0..480), coloured(480..960));
+    assert!(left > 10_000.0 && right > 10_000.0, "{left} / {right}");
+    let ratio = left / right;
+    assert!(
+        (ratio - 800.0 / 650.0).abs() < 0.08,
+        "bar areas {left} / {right} = {ratio}"
+    );
     if let Ok(dir) = std::env::var("USAR_PLOT_SAMPLE_DIR") {
         bars.save(&std::path::Path::new(&dir).join("sample-bar.png"))
             .unwrap();
