@@ -13,7 +13,7 @@
 //! The thresholds always come from the YAML: with `free_thresh: 0.25` (depot) the map_saver's
 //! "unknown" grey 205 (occupancy 0.196) is free, with 0.196 it is unknown. Pixels are read as in
 //! [`super::image_map`]; unknown space becomes wall. A rotated map (yaw ≠ 0, e.g. `3.14`) is
-//! turned on import into an axis-aligned grid ([`super::image_map::rotate_obstacles`]).
+//! turned on import into an axis-aligned grid ([`super::rotation::rotate_obstacles`]).
 //!
 //! The YAML is parsed by `serde-saphyr` (pure Rust, panic-free) under a budget: nesting deeper
 //! than 32 flow collections, more than 10 000 parser events or a file past the byte limit

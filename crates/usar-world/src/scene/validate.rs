@@ -23,7 +23,8 @@ pub(crate) fn check_resolution(resolution_m: f64, field: &str, path: &Path) -> R
         return Err(WorldError::invalid(
             path,
             field,
-            resolution_m,
+            // `{:?}` writes 1e300 as `1e300`, not as 301 digits.
+            format!("{resolution_m:?}"),
             format!(
                 "metres per cell from {} to {}",
                 RESOLUTION_RANGE_M.start(),
@@ -47,7 +48,7 @@ pub(crate) fn check_extent(
         return Err(WorldError::invalid(
             path,
             field,
-            format!("[{}, {}]", origin.x, origin.y),
+            format!("[{:?}, {:?}]", origin.x, origin.y),
             format!("coordinates within ±{MAX_ABS_COORD_M} m, the far corner included"),
         ));
     }
