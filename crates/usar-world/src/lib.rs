@@ -32,7 +32,6 @@ mod toml_error;
 
 pub use self::atomic::write_atomic;
 pub use self::error::{Result, WorldError};
-pub use self::toml_error::toml_error_line;
 pub use self::geometry::{BodyToWorld, Point2, Pose2, Rect, normalize_angle};
 pub use self::grid::{Cell, Grid, GridGeometry, NEIGHBORS8};
 pub use self::ray::{CellRect, GridRay, RayVisitor, Visit};
@@ -41,3 +40,4 @@ pub use self::scene::{
     RoomSizeThresholds, Scene, SceneInfo, TerrainFeature, Victim, obstacle, read_scene,
     scene_from_json, scene_to_json, write_scene,
 };
+pub use self::toml_error::toml_error_line;
