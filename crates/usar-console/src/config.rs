@@ -1,9 +1,28 @@
-//! What a console runs and where it listens: the mission file (TOML) and the server options.
+//! What a console runs and where it listens: the mission file (TOML) and the server options
+//! (address, access token, allowed origins, limits).
 
 use serde::Deserialize;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 use usar_world::Scene;
+
+/// The environment variable `usar console` takes the access token from when neither `--token`
+/// nor `--token-file` is given (a command line shows in `ps`; the environment does not).
+pub const TOKEN_ENV: &str = "USAR_CONSOLE_TOKEN";
+
+/// The shortest access token accepted on a non-loopback address, characters.
+pub const MIN_OPEN_TOKEN_CHARS: usize = 24;
+/// The fewest different characters such a token must have.
+pub const MIN_OPEN_TOKEN_DISTINCT: usize = 10;
+/// The longest access token, characters.
+pub const MAX_TOKEN_CHARS: usize = 256;
+/// The largest mission file read, bytes (a mission file is a few lines).
+pub const MAX_MISSION_FILE_BYTES: u64 = 1 << 20;
+/// The most team robots a mission may have.
+pub const MAX_TEAM_ROBOTS: usize = 32;
+/// The longest team mission, simulated minutes (a week).
+pub const MAX_MINUTES: f64 = 7.0 * 24.0 * 60.0;
 
 /// Why a console could not start.
 #[derive(Debug, thiserror::Error)]
@@ -22,9 +41,26 @@ pub enum ConsoleError {
     Field { field: String, message: String },
     /// A non-loopback address without an explicit token.
     #[error(
-        "--bind {0}: not a loopback address; serving the console beyond this machine needs an explicit --token"
+        "--bind {0}: not a loopback address; serving the console beyond this machine needs an explicit access token (--token-file PATH, USAR_CONSOLE_TOKEN or --token) of at least 24 characters with at least 10 different ones"
     )]
     OpenBindWithoutToken(SocketAddr),
+    /// A non-loopback address with a token too easy to guess.
+    #[error(
+        "--bind {0}: not a loopback address, and the access token is too weak: it needs at least 24 characters with at least 10 different ones (e.g. `openssl rand -hex 16`)"
+    )]
+    WeakToken(SocketAddr),
+    /// The token is unusable (empty, too long, spaces or control characters).
+    #[error("access token: {0}")]
+    Token(String),
+    /// The token file could not be read or holds no token.
+    #[error("--token-file {path}: {message}")]
+    TokenFile { path: PathBuf, message: String },
+    /// An `--allow-origin` value that is not an origin.
+    #[error("--allow-origin {origin}: {message}")]
+    AllowOrigin { origin: String, message: String },
+    /// A server limit out of range.
+    #[error("{name}: {message}")]
+    Limit { name: String, message: String },
     /// The address could not be bound.
     #[error("cannot listen on {addr}: {source}")]
     Bind {
@@ -109,26 +145,69 @@ impl Default for MissionConfig {
 
 impl MissionConfig {
     /// Reads a mission file.
+    /// Reads a mission file and checks every field (unknown fields are refused) before
+    /// anything is set up; an error names the file and the field.
     pub fn from_file(path: &Path) -> Result<Self, ConsoleError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ConsoleError::Io {
+        let io = |source| ConsoleError::Io {
             path: path.into(),
             source,
-        })?;
+        };
+        let size = std::fs::metadata(path).map_err(io)?.len();
+        if size > MAX_MISSION_FILE_BYTES {
+            return Err(ConsoleError::MissionFile {
+                path: path.into(),
+                message: format!(
+                    "{size} bytes; a mission file is at most {MAX_MISSION_FILE_BYTES} bytes"
+                ),
+            });
+        }
+        let text = std::fs::read_to_string(path).map_err(io)?;
         let config: MissionConfig =
             toml::from_str(&text).map_err(|e| ConsoleError::MissionFile {
                 path: path.into(),
                 message: e.to_string().replace('\n', " "),
             })?;
-        config.validate()?;
+        config.validate().map_err(|e| match e {
+            ConsoleError::Field { field, message } => ConsoleError::MissionFile {
+                path: path.into(),
+                message: format!("field `{field}`: {message}"),
+            },
+            other => other,
+        })?;
         Ok(config)
     }
 
-    /// Checks ranges.
+    /// Checks every value's range (before anything is allocated or trained).
     pub fn validate(&self) -> Result<(), ConsoleError> {
         let field = |f: &str, m: String| ConsoleError::Field {
             field: f.into(),
             message: m,
         };
+        if !(1..=MAX_TEAM_ROBOTS).contains(&self.team_robots) {
+            return Err(field(
+                "team_robots",
+                format!(
+                    "found {}, expected 1 to {MAX_TEAM_ROBOTS}",
+                    self.team_robots
+                ),
+            ));
+        }
+        if let Err(e) = usar_rescue::training::check_trials(self.train_trials) {
+            let message = e.to_string();
+            return Err(field(
+                "train_trials",
+                message
+                    .strip_prefix("trials: ")
+                    .unwrap_or(&message)
+                    .to_string(),
+            ));
+        }
+        if !(1..=100).contains(&self.stuck_after_slips) {
+            return Err(field(
+                "stuck_after_slips",
+                format!("found {}, expected 1 to 100", self.stuck_after_slips),
+            ));
+        }
         if !(self.speed.is_finite() && self.speed > 0.0 && self.speed <= 1000.0) {
             return Err(field(
                 "speed",
@@ -141,16 +220,26 @@ impl MissionConfig {
                 format!("found {}, expected a probability", self.slip_probability),
             ));
         }
-        if self.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+        if self
+            .weights
+            .iter()
+            .any(|w| !(w.is_finite() && (0.0..=100.0).contains(w)))
+        {
             return Err(field(
                 "weights",
-                "expected three non-negative numbers".into(),
+                format!(
+                    "found {:?}, expected three numbers from 0 to 100",
+                    self.weights
+                ),
             ));
         }
-        if !(self.minutes.is_finite() && self.minutes > 0.0) {
+        if !(self.minutes.is_finite() && self.minutes > 0.0 && self.minutes <= MAX_MINUTES) {
             return Err(field(
                 "minutes",
-                format!("found {}, expected > 0", self.minutes),
+                format!(
+                    "found {}, expected 0 < minutes ≤ {MAX_MINUTES} (a week)",
+                    self.minutes
+                ),
             ));
         }
         if usar_sim::RobotSpec::preset(&self.team_robot).is_none() {
@@ -184,22 +273,167 @@ impl MissionConfig {
     }
 }
 
+/// What one console lets its clients take: connections, time and authentication attempts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConsoleLimits {
+    /// Concurrent TCP connections (page loads, API calls, WebSockets); one more is answered
+    /// `503 Service Unavailable` and closed. Default 256.
+    pub max_connections: usize,
+    /// How long a plain HTTP connection may last (it carries one request: the server answers
+    /// `Connection: close`); a WebSocket is exempt once upgraded. Default 30 s.
+    pub http_deadline: Duration,
+    /// How long a WebSocket may stay without the access token (`?token=` or an `auth`
+    /// message); then it is closed with code 1008. Default 5 s.
+    pub auth_deadline: Duration,
+    /// Failed `auth` attempts one WebSocket may make; it is closed (1008) at the last. Default 3.
+    pub auth_failures_per_connection: u32,
+    /// Failed attempts (WebSocket `auth` or `?token=`, HTTP `Bearer`) one peer address may make
+    /// within `auth_window` (IPv6: per /64); then every attempt from it, right or wrong, is
+    /// refused (HTTP 429) until the window has passed. Default 10.
+    pub auth_failures_per_peer: u32,
+    /// See `auth_failures_per_peer`. Default 60 s.
+    pub auth_window: Duration,
+}
+
+impl Default for ConsoleLimits {
+    fn default() -> Self {
+        Self {
+            max_connections: 256,
+            http_deadline: Duration::from_secs(30),
+            auth_deadline: Duration::from_secs(5),
+            auth_failures_per_connection: 3,
+            auth_failures_per_peer: 10,
+            auth_window: Duration::from_secs(60),
+        }
+    }
+}
+
 /// The server's options.
 #[derive(Clone, Debug)]
 pub struct ConsoleConfig {
     pub mission: MissionConfig,
     pub bind: SocketAddr,
-    /// The access token; a random one when absent (allowed on loopback only).
+    /// The access token; a random one when absent (allowed on loopback only). On a non-loopback
+    /// address it needs at least [`MIN_OPEN_TOKEN_CHARS`] characters with at least
+    /// [`MIN_OPEN_TOKEN_DISTINCT`] different ones.
     pub token: Option<String>,
+    /// Origins (`scheme://host[:port]`) besides the console's own whose pages may use it, e.g.
+    /// a reverse proxy's `https://console.example.org`; their hosts are also accepted in `Host`.
+    /// The console's own: `http://` + the bound address, and on loopback `localhost`,
+    /// `127.0.0.1` and `[::1]` at its port (on 0.0.0.0 / `::`, any IP address at its port).
+    pub allow_origins: Vec<String>,
+    pub limits: ConsoleLimits,
 }
 
 impl ConsoleConfig {
-    /// On 127.0.0.1, a free port, a random token.
+    /// On 127.0.0.1, a free port, a random token, default limits.
     pub fn local(mission: MissionConfig) -> Self {
         Self {
             mission,
             bind: SocketAddr::from(([127, 0, 0, 1], 0)),
             token: None,
+            allow_origins: Vec::new(),
+            limits: ConsoleLimits::default(),
         }
     }
+
+    /// Checks the server options (the mission is checked when it is set up): a usable token,
+    /// a strong one beyond loopback, well-formed origins, limits above zero.
+    pub fn validate(&self) -> Result<(), ConsoleError> {
+        match &self.token {
+            Some(t) => {
+                check_token(t)?;
+                if !self.bind.ip().is_loopback() && !strong_token(t) {
+                    return Err(ConsoleError::WeakToken(self.bind));
+                }
+            }
+            None if !self.bind.ip().is_loopback() => {
+                return Err(ConsoleError::OpenBindWithoutToken(self.bind));
+            }
+            None => {}
+        }
+        for origin in &self.allow_origins {
+            crate::guard::parse_origin(origin).map_err(|message| ConsoleError::AllowOrigin {
+                origin: origin.clone(),
+                message,
+            })?;
+        }
+        let l = &self.limits;
+        let limit = |name: &str, message: &str| ConsoleError::Limit {
+            name: name.into(),
+            message: message.into(),
+        };
+        if !(1..=100_000).contains(&l.max_connections) {
+            return Err(limit(
+                "--max-connections",
+                &format!("found {}, expected 1 to 100000", l.max_connections),
+            ));
+        }
+        if l.auth_failures_per_connection == 0 || l.auth_failures_per_peer == 0 {
+            return Err(limit(
+                "auth failures",
+                "expected at least one failed attempt per connection and per peer",
+            ));
+        }
+        if [l.http_deadline, l.auth_deadline, l.auth_window]
+            .iter()
+            .any(|d| d.is_zero())
+        {
+            return Err(limit("deadlines", "expected durations above zero"));
+        }
+        Ok(())
+    }
+}
+
+/// A token any console accepts: 1 to [`MAX_TOKEN_CHARS`] characters, none of them white space
+/// or control characters.
+fn check_token(token: &str) -> Result<(), ConsoleError> {
+    if token.is_empty() {
+        return Err(ConsoleError::Token(
+            "empty; expected a secret string".into(),
+        ));
+    }
+    if token.chars().count() > MAX_TOKEN_CHARS {
+        return Err(ConsoleError::Token(format!(
+            "longer than {MAX_TOKEN_CHARS} characters"
+        )));
+    }
+    if token.chars().any(|c| c.is_whitespace() || c.is_control()) {
+        return Err(ConsoleError::Token(
+            "contains white space or control characters".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// At least [`MIN_OPEN_TOKEN_CHARS`] characters with at least [`MIN_OPEN_TOKEN_DISTINCT`]
+/// different ones (a 32-digit random hex token has about 14).
+pub fn strong_token(token: &str) -> bool {
+    let distinct: std::collections::BTreeSet<char> = token.chars().collect();
+    token.chars().count() >= MIN_OPEN_TOKEN_CHARS && distinct.len() >= MIN_OPEN_TOKEN_DISTINCT
+}
+
+/// The token in a file: its content without the line break at its end (at most 4 KiB).
+pub fn read_token_file(path: &Path) -> Result<String, ConsoleError> {
+    let fail = |message: String| ConsoleError::TokenFile {
+        path: path.into(),
+        message,
+    };
+    let size = std::fs::metadata(path)
+        .map_err(|e| fail(e.to_string()))?
+        .len();
+    if size > 4096 {
+        return Err(fail(format!(
+            "{size} bytes; expected a token of at most {MAX_TOKEN_CHARS} characters"
+        )));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
+    let token = text.trim_end_matches(['\r', '\n']);
+    if token.is_empty() {
+        return Err(fail("empty; expected the token on the first line".into()));
+    }
+    if token.contains(['\r', '\n']) {
+        return Err(fail("more than one line; expected the token alone".into()));
+    }
+    Ok(token.to_string())
 }

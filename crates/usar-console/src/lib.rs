@@ -13,9 +13,11 @@
 //!   from the simulated operator;
 //! - [`protocol`]: every message a browser may send, parsed with serde into one typed enum;
 //!   anything else gets an error reply;
-//! - [`server`]: HTTP and WebSocket (axum), the access token, the static page;
-//! - [`bench`]: many WebSocket viewers against a running console, measuring the simulation's
-//!   speed and every viewer's update rate.
+//! - [`server`]: HTTP and WebSocket (axum), the access token, the static page; the `Host` /
+//!   `Origin` allow-list and the limits on connections, message sizes, unauthenticated time and
+//!   failed token attempts ([`ConsoleLimits`]);
+//! - [`bench`]: many WebSocket viewers (and hostile connections held against the limits)
+//!   against a running console, measuring the simulation's speed and every viewer's update rate.
 //!
 //! ```no_run
 //! use usar_console::{ConsoleConfig, MissionConfig, start};
@@ -29,6 +31,7 @@
 pub mod bench;
 pub mod clock;
 mod config;
+mod guard;
 mod images;
 pub mod mission;
 pub mod operator;
@@ -38,7 +41,10 @@ pub mod server;
 mod snapshot;
 mod team_hook;
 
-pub use self::config::{ConsoleConfig, ConsoleError, MissionConfig};
+pub use self::config::{
+    ConsoleConfig, ConsoleError, ConsoleLimits, MAX_MINUTES, MAX_TEAM_ROBOTS, MIN_OPEN_TOKEN_CHARS,
+    MIN_OPEN_TOKEN_DISTINCT, MissionConfig, TOKEN_ENV, read_token_file, strong_token,
+};
 pub use self::server::{RunningConsole, serve_blocking, start};
 pub use self::snapshot::{
     BtmLinkView, BtmNodeView, Frame, HandOffKind, HandOffView, MapView, RobotView, VictimView,

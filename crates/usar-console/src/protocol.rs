@@ -4,8 +4,10 @@
 //! missing fields, wrong value types and out-of-range numbers are refused with an
 //! [`ServerMessage::Error`] reply naming the problem, and the connection and the mission go
 //! on. Control messages need the access token, given once per WebSocket connection (the
-//! `token` query parameter or an `auth` message) or per HTTP request
-//! (`Authorization: Bearer TOKEN`).
+//! `token` query parameter or an `auth` message; a WebSocket receives frames and maps only
+//! once it has given it) or per HTTP request (`Authorization: Bearer TOKEN`). A text longer than [`MAX_MESSAGE_BYTES`] is refused: over
+//! HTTP with 413, over a WebSocket by closing the connection (code 1009) as soon as the frame
+//! header announces it, before its payload is read.
 
 use serde::{Deserialize, Serialize};
 
@@ -119,10 +121,16 @@ impl ClientMessage {
     }
 }
 
+/// The longest client message, bytes (every valid message is far shorter).
+pub const MAX_MESSAGE_BYTES: usize = 4096;
+
 /// Parses one client text: the message, or the error to reply.
 pub fn parse(text: &str) -> Result<ClientMessage, String> {
-    if text.len() > 4096 {
-        return Err(format!("message of {} bytes, at most 4096", text.len()));
+    if text.len() > MAX_MESSAGE_BYTES {
+        return Err(format!(
+            "message of {} bytes, at most {MAX_MESSAGE_BYTES}",
+            text.len()
+        ));
     }
     let message: ClientMessage =
         serde_json::from_str(text).map_err(|e| format!("malformed message: {e}"))?;

@@ -28,11 +28,17 @@ function connect() {
   socket.onopen = () => {
     $("connection").textContent = "connected";
     $("connection").className = "good";
-    $("control-status").textContent = token ? "control: token given" : "view only (no token)";
+    $("control-status").textContent = token ? "control: token given" :
+      "no access token: open the address `usar console` printed (…/?token=…)";
   };
-  socket.onclose = () => {
-    $("connection").textContent = "disconnected; retrying";
+  socket.onclose = (event) => {
     $("connection").className = "bad";
+    if (event.code === 1008) {
+      // Refused for the token (missing, wrong or too many attempts): retrying would not help.
+      $("connection").textContent = "closed: " + (event.reason || "access token refused");
+      return;
+    }
+    $("connection").textContent = "disconnected; retrying";
     setTimeout(connect, 1000);
   };
   socket.onmessage = (event) => {

@@ -20,7 +20,8 @@ pub async fn start_local(mission: MissionConfig) -> RunningConsole {
         .expect("the console starts")
 }
 
-/// One HTTP/1.1 request; the status code and the body.
+/// One HTTP/1.1 request; the status code and the body. A `Host` among `headers` replaces the
+/// console's address.
 pub async fn http(
     console: &RunningConsole,
     method: &str,
@@ -32,10 +33,12 @@ pub async fn http(
         .await
         .expect("connects");
     let mut request = format!(
-        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Length: {}\r\nContent-Type: application/json\r\n",
-        console.addr,
+        "{method} {path} HTTP/1.1\r\nConnection: close\r\nContent-Length: {}\r\nContent-Type: application/json\r\n",
         body.len()
     );
+    if !headers.iter().any(|(k, _)| k.eq_ignore_ascii_case("host")) {
+        request.push_str(&format!("Host: {}\r\n", console.addr));
+    }
     for (k, v) in headers {
         request.push_str(&format!("{k}: {v}\r\n"));
     }

@@ -7,7 +7,7 @@ use crate::scene_source;
 use clap::{Args, Subcommand};
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use usar_console::{ConsoleConfig, MissionConfig};
+use usar_console::{ConsoleConfig, ConsoleLimits, MissionConfig, TOKEN_ENV};
 
 /// Start a live simulated mission and serve the operator console to a browser: a MAXQ
 /// semi-autonomous robot that hands off to you, a team exploring with S-MCDM, a BTM being built.
@@ -22,7 +22,8 @@ pub struct ConsoleArgs {
 
 #[derive(Debug, Subcommand)]
 pub enum ConsoleCommand {
-    /// Measure the simulation's speed and every viewer's updates with many WebSocket viewers.
+    /// Measure the simulation's speed and every viewer's updates with many WebSocket viewers
+    /// and connections held against the console's limits.
     Bench(ConsoleBenchArgs),
 }
 
@@ -35,15 +36,35 @@ pub struct ConsoleServeArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// A mission file (TOML: team_robots, team_robot, strategy, hypothesis, speed, train_trials,
-    /// floor_cell_m2, …; see the crate usar-console, `MissionConfig`).
+    /// floor_cell_m2, …; see the crate usar-console, `MissionConfig`). Unknown fields and
+    /// out-of-range values (e.g. train_trials above 1 000 000, team_robots above 32) are refused
+    /// before anything starts.
     #[arg(long)]
     pub mission: Option<PathBuf>,
-    /// Where to listen. A non-loopback address needs --token.
+    /// Where to listen (ADDRESS:PORT). A non-loopback address needs an access token of at least
+    /// 24 characters with at least 10 different ones (--token-file, USAR_CONSOLE_TOKEN or
+    /// --token).
     #[arg(long, default_value = "127.0.0.1:8080")]
     pub bind: String,
-    /// The access token for control (default: a random one, printed).
-    #[arg(long)]
+    /// The access token for control and the live view. Visible to other users in `ps`: prefer
+    /// --token-file or the environment variable USAR_CONSOLE_TOKEN. Default: a random one,
+    /// printed (loopback only).
+    #[arg(long, conflicts_with = "token_file")]
     pub token: Option<String>,
+    /// Read the access token from this file (its first line; a final line break is ignored).
+    #[arg(long, value_name = "PATH")]
+    pub token_file: Option<PathBuf>,
+    /// Also serve pages from this origin (SCHEME://HOST[:PORT], e.g. a reverse proxy's
+    /// https://console.example.org); repeatable. Requests whose Origin or Host is neither the
+    /// console's own address (on loopback also localhost, 127.0.0.1 and [::1] at its port) nor
+    /// an allowed origin are refused with 403, against other sites' pages and DNS rebinding.
+    #[arg(long, value_name = "ORIGIN")]
+    pub allow_origin: Vec<String>,
+    /// Concurrent connections (page loads, API calls, WebSockets) served at once; one more is
+    /// answered 503. A WebSocket without the token is closed after 5 s, an address with 10
+    /// wrong tokens within a minute is refused for the rest of it.
+    #[arg(long, default_value_t = ConsoleLimits::default().max_connections)]
+    pub max_connections: usize,
     /// A MAXQ policy file (`usar maxq train`); default: a short training at start.
     #[arg(long)]
     pub policy: Option<PathBuf>,
@@ -56,10 +77,16 @@ pub struct ConsoleServeArgs {
 
 #[derive(Debug, Args)]
 pub struct ConsoleBenchArgs {
-    /// Concurrent WebSocket viewers.
+    /// Concurrent WebSocket viewers (with the access token).
     #[arg(long, default_value_t = 50)]
     pub viewers: usize,
-    /// Seconds of each measurement (without viewers, then with them).
+    /// Bounded connections held during the second measurement: WebSockets without the token,
+    /// half idle until the 5 s auth deadline closes them, half announcing a 1 MiB message that
+    /// is refused unread; each reconnects 0.5 s after it was closed. Beyond the connection cap
+    /// (256) they are refused with 503.
+    #[arg(long, default_value_t = 0)]
+    pub connections: usize,
+    /// Seconds of each measurement (without clients, then with them).
     #[arg(long, default_value_t = 30.0)]
     pub seconds: f64,
     /// Simulated seconds per wall-clock second.
@@ -107,36 +134,83 @@ fn serve(args: ConsoleServeArgs) -> CmdResult {
             args.bind
         ))
     })?;
+    let (token, source) = access_token(args.token, args.token_file)?;
     let config = ConsoleConfig {
         mission,
         bind,
-        token: args.token,
+        token,
+        allow_origins: args.allow_origin,
+        limits: ConsoleLimits {
+            max_connections: args.max_connections,
+            ..ConsoleLimits::default()
+        },
     };
-    usar_console::serve_blocking(config, |console| {
-        println!("usar console: {}", console.url());
-        println!("access token: {}", console.token);
-        println!("(Ctrl-C to stop)");
+    usar_console::serve_blocking(config, |console| match &source {
+        None => {
+            println!("usar console: {}", console.url());
+            println!("access token: {}", console.token);
+            println!("(Ctrl-C to stop)");
+        }
+        Some(source) => {
+            println!("usar console: http://{}/", console.addr);
+            println!(
+                "access token: from {source}; open http://{}/?token=TOKEN",
+                console.addr
+            );
+            println!("(Ctrl-C to stop)");
+        }
     })
     .map_err(bad_input)
+}
+
+/// The access token and where it came from: --token, --token-file, or USAR_CONSOLE_TOKEN
+/// (in that order); none: a random one.
+fn access_token(
+    flag: Option<String>,
+    file: Option<PathBuf>,
+) -> CmdResult<(Option<String>, Option<String>)> {
+    if let Some(token) = flag {
+        return Ok((Some(token), Some("--token".into())));
+    }
+    if let Some(path) = file {
+        let token = usar_console::read_token_file(&path).map_err(bad_input)?;
+        return Ok((
+            Some(token),
+            Some(format!("--token-file {}", path.display())),
+        ));
+    }
+    match std::env::var(TOKEN_ENV) {
+        Ok(token) => Ok((Some(token), Some(TOKEN_ENV.into()))),
+        Err(std::env::VarError::NotPresent) => Ok((None, None)),
+        Err(std::env::VarError::NotUnicode(_)) => Err(bad_input(anyhow::anyhow!(
+            "{TOKEN_ENV}: not valid UTF-8; expected the access token"
+        ))),
+    }
 }
 
 fn bench(args: ConsoleBenchArgs) -> CmdResult {
     let mut mission = mission_config(args.mission.as_ref())?;
     mission.speed = args.speed;
     mission.validate().map_err(bad_input)?;
-    if args.viewers == 0 || !(args.seconds.is_finite() && args.seconds >= 1.0) {
+    if args.viewers + args.connections == 0
+        || args.viewers > 10_000
+        || args.connections > 10_000
+        || !(args.seconds.is_finite() && (1.0..=86_400.0).contains(&args.seconds))
+    {
         return Err(bad_input(anyhow::anyhow!(
-            "--viewers must be at least 1 and --seconds at least 1"
+            "--viewers and --connections: 0 to 10000, not both 0; --seconds: 1 to 86400"
         )));
     }
-    let report = usar_console::bench::run_blocking(mission, args.viewers, args.seconds)
-        .map_err(bad_input)?;
+    let report =
+        usar_console::bench::run_blocking(mission, args.viewers, args.connections, args.seconds)
+            .map_err(bad_input)?;
     if args.json {
         return super::print_json(&report);
     }
     println!(
-        "{} viewers, {} s: speed {:.3}× without viewers, {:.3}× with ({:+.1} %), target {}×",
+        "{} viewers, {} bounded connections, {} s: speed {:.3}× without them, {:.3}× with ({:+.1} %), target {}×",
         report.viewers,
+        report.connections,
         report.seconds,
         report.speed_without_viewers,
         report.speed_with_viewers,
@@ -152,5 +226,13 @@ fn bench(args: ConsoleBenchArgs) -> CmdResult {
         report.viewers_receiving_every_second,
         report.viewers
     );
+    if report.connections > 0 {
+        println!(
+            "bounded connections: {} upgrades accepted, {} refused with 503, {} closed by the server",
+            report.connections_upgraded,
+            report.connections_refused,
+            report.connections_closed_by_server
+        );
+    }
     Ok(())
 }
