@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command: installs what the tests need when it is missing, then runs
-# `cargo test --workspace`. Extra arguments go to cargo test (e.g. `./test.sh -p usar-world`).
+# `cargo test --workspace`. Arguments replace `--workspace` (e.g. `./test.sh -p usar-world`).
 #
 # What the tests need beyond a Rust toolchain:
 # - Debian's headless Chromium and its WebDriver (`chromium`, `chromium-driver`), for the
@@ -38,4 +38,7 @@ if [ ${#need_apt[@]} -gt 0 ]; then
   done
 fi
 
-exec cargo test --workspace "$@"
+if [ $# -eq 0 ]; then
+  exec cargo test --workspace
+fi
+exec cargo test "$@"
