@@ -3,6 +3,7 @@
 mod btm;
 mod campaign;
 mod console;
+mod golden;
 mod inputs;
 mod maxq;
 mod segment;
