@@ -244,7 +244,7 @@ impl FrontierTracker {
 mod tests {
     use super::*;
     use crate::occupancy::OccupancyParams;
-    use usar_sim::sensors::LaserScan;
+    use usar_readings::LaserScan;
     use usar_world::{GridGeometry, Pose2};
 
     #[test]

@@ -126,7 +126,7 @@ impl NavigableMap {
 mod tests {
     use super::*;
     use crate::occupancy::OccupancyParams;
-    use usar_sim::sensors::LaserScan;
+    use usar_readings::LaserScan;
     use usar_world::{Point2, Pose2};
 
     #[test]

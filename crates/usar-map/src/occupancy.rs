@@ -16,7 +16,7 @@
 //! later miss leaves it unchanged too. The other cells take the tabulated update and a bit in a
 //! second bitmap, cleared at the end of the scan.
 
-use usar_sim::sensors::LaserScan;
+use usar_readings::LaserScan;
 use usar_world::{Cell, Grid, GridGeometry, GridRay};
 
 /// Largest |l| stored (p ≈ 0.018 … 0.982).

@@ -1,6 +1,7 @@
 //! The front 3-D depth sensor giving the D_xy array of paper 000 (Fig. 4): a small grid of
 //! ranges looking at the terrain in front of the robot, from which rubble is classified.
 
+use usar_readings::DepthImage;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -36,44 +37,6 @@ impl Default for DepthSpec {
             max_range_m: 2.0,
             range_noise_sd_m: 0.005,
         }
-    }
-}
-
-/// A depth image: `depth_m[row * cols + col]` is the range along that pixel's ray (+∞ when
-/// nothing is within range), together with the pixel's ray angles so a consumer can rebuild the
-/// 3-D points.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DepthImage {
-    pub pose: Pose2,
-    pub rows: u32,
-    pub cols: u32,
-    pub depth_m: Vec<f32>,
-    /// Yaw of each column relative to the heading, radians (left positive).
-    pub col_yaw_rad: Vec<f64>,
-    /// Pitch below the horizon of each row, radians.
-    pub row_pitch_down_rad: Vec<f64>,
-    /// Sensor height above the world's zero level when the image was taken.
-    pub sensor_z_m: f64,
-}
-
-impl DepthImage {
-    /// The 3-D point seen by pixel (row, col) in the robot frame (x forward, y left, z up from
-    /// the sensor), or `None` for no return.
-    pub fn point_body(&self, row: u32, col: u32) -> Option<[f64; 3]> {
-        let d = f64::from(*self.depth_m.get((row * self.cols + col) as usize)?);
-        if !d.is_finite() {
-            return None;
-        }
-        let (yaw, pitch) = (
-            self.col_yaw_rad[col as usize],
-            self.row_pitch_down_rad[row as usize],
-        );
-        let horizontal = d * pitch.cos();
-        Some([
-            horizontal * yaw.cos(),
-            horizontal * yaw.sin(),
-            -d * pitch.sin(),
-        ])
     }
 }
 

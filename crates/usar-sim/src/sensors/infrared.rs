@@ -1,6 +1,7 @@
 //! Infrared proximity sensors on the sides and back (paper 000: five sensors around the
 //! perimeter, used to detect obstacles in the neighbouring cells).
 
+use usar_readings::InfraredReading;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -28,12 +29,6 @@ impl Default for InfraredSpec {
             range_noise_sd_m: 0.005,
         }
     }
-}
-
-/// Ranges of each infrared sensor, in the order of the spec's directions (`None`: nothing seen).
-#[derive(Clone, Debug, PartialEq)]
-pub struct InfraredReading {
-    pub ranges_m: Vec<Option<f64>>,
 }
 
 pub fn read_infrared(

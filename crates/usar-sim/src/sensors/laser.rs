@@ -1,5 +1,6 @@
 //! The horizontal 2-D laser range finder (paper 002: 360°, 1°, 20 m).
 
+use usar_readings::LaserScan;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -30,25 +31,6 @@ impl Default for LaserSpec {
             range_noise_sd_m: 0.01,
             mount_height_m: 0.3,
         }
-    }
-}
-
-/// One scan. `ranges_m[i]` is the range of beam i at angle `angle_min_rad + i·angle_increment_rad`
-/// relative to the robot heading, or +∞ when the beam met nothing within `max_range_m`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct LaserScan {
-    /// Pose of the sensor (the robot pose) when the scan was taken.
-    pub pose: Pose2,
-    pub angle_min_rad: f64,
-    pub angle_increment_rad: f64,
-    pub max_range_m: f64,
-    pub ranges_m: Vec<f32>,
-}
-
-impl LaserScan {
-    /// World angle of beam `i`.
-    pub fn beam_angle(&self, i: usize) -> f64 {
-        self.pose.theta + self.angle_min_rad + i as f64 * self.angle_increment_rad
     }
 }
 

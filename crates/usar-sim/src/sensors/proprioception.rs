@@ -1,6 +1,7 @@
 //! Odometry (the robot's own estimate of its motion, drifting with noise) and attitude (pitch and
 //! roll from the terrain under the footprint).
 
+use usar_readings::Attitude;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -66,22 +67,6 @@ impl Odometry {
         e.y += forward * e.theta.sin();
         e.theta = usar_world::normalize_angle(e.theta + turn);
         self.distance_m += forward.abs();
-    }
-}
-
-/// Pitch (nose up positive) and roll (left side up positive), radians.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Attitude {
-    pub pitch_rad: f64,
-    pub roll_rad: f64,
-}
-
-impl Attitude {
-    /// Inclination of the body from the horizontal plane, radians.
-    pub fn inclination_rad(&self) -> f64 {
-        (self.pitch_rad.cos() * self.roll_rad.cos())
-            .clamp(-1.0, 1.0)
-            .acos()
     }
 }
 

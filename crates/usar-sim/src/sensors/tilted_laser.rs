@@ -2,6 +2,7 @@
 //! floor ahead. On a flat floor every beam returns the reference range L; an obstacle of height
 //! h in front shortens it to l₁, and h = (L − l₁)·cos θ, θ being the tilt from the vertical.
 
+use usar_readings::TiltedScan;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -41,16 +42,6 @@ impl TiltedLaserSpec {
     pub fn flat_floor_range_m(&self) -> f64 {
         self.mount_height_m / self.tilt_from_vertical_rad.cos()
     }
-}
-
-/// One sweep of the tilted laser: ranges along each beam (+∞ for no return), beam i at yaw
-/// `yaw_min_rad + i·yaw_increment_rad` in the tilted plane.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct TiltedScan {
-    pub pose: Pose2,
-    pub yaw_min_rad: f64,
-    pub yaw_increment_rad: f64,
-    pub ranges_m: Vec<f32>,
 }
 
 /// Reads the tilted laser from `pose` on a floor at `floor_z_m`.
