@@ -158,3 +158,8 @@ fn save(loader: &str, input: &[u8]) -> Option<PathBuf> {
     std::fs::write(&path, input).ok()?;
     Some(path)
 }
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

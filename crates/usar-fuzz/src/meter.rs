@@ -2,7 +2,7 @@
 //! an input reached, so a small file that makes a loader allocate gigabytes is a finding even
 //! when the machine has the memory. Install it in the binary that fuzzes:
 //!
-//! ```ignore
+//! ```text
 //! #[global_allocator]
 //! static METER: usar_fuzz::meter::MeteredAllocator = usar_fuzz::meter::MeteredAllocator;
 //! ```

@@ -110,3 +110,8 @@ impl Attitude {
     }
 }
 
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
