@@ -7,7 +7,8 @@
 //!   plane fits, infrared, thermal victim probability), the rewards of Table I ([`rewards`]);
 //! - [`exploration`]: the direction-based exploration of §V (eq. 7–10, Table II);
 //! - [`operator`]: the hand-off interface and a simulated operator;
-//! - [`training`], [`evaluation`], [`teleoperation`]: the experiments of §VI and §VII-B;
+//! - [`training`], [`evaluation`], [`teleoperation`]: the experiments of §VI and §VII-B, and
+//!   [`analysis`]: §VI-B's statistics over an evaluation;
 //! - [`policy`]: the versioned policy file.
 //!
 //! ```
@@ -24,6 +25,7 @@
 //! assert!(domain.guidance().heading.is_some()); // there is something to explore
 //! ```
 
+pub mod analysis;
 pub mod cell_map;
 pub mod domain;
 pub mod evaluation;

@@ -5,11 +5,10 @@ use crate::cli::{MaxqCommand, MaxqEvalArgs, MaxqTaxiArgs, MaxqTeleopArgs, MaxqTr
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::progress;
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use usar_campaign::stats::{self, StatsError, Tails, TestResult};
 use usar_maxq::taxi::{TaxiConfig, run_taxi};
 use usar_plot::{Bar, BarChart, GroupedBarChart, LineChart, Series};
+use usar_rescue::analysis::{EvalAnalysis, MeanSd, analyse, mean_sd};
 use usar_rescue::evaluation::{EvalConfig, EvalRun, eval_scene, evaluate};
 use usar_rescue::operator::OperatorProfile;
 use usar_rescue::policy::{PolicyFile, TrainingInfo};
@@ -136,93 +135,6 @@ fn sibling(path: &Path, suffix: &str) -> PathBuf {
     path.with_file_name(format!("{stem}{suffix}{ext}"))
 }
 
-/// Mean and sd of one metric.
-#[derive(Serialize)]
-struct MeanSd {
-    mean: f64,
-    sd: Option<f64>,
-}
-
-fn mean_sd(xs: &[f64]) -> MeanSd {
-    let s = stats::summarize(xs);
-    MeanSd {
-        mean: s.as_ref().map_or(f64::NAN, |s| s.mean),
-        sd: s.and_then(|s| s.sd),
-    }
-}
-
-/// A test's statistic, df and p, or why it could not be computed (`{"error": "..."}`).
-#[derive(Serialize)]
-#[serde(untagged)]
-enum TestOutcome {
-    Computed(TestResult),
-    NotComputed { error: String },
-}
-
-impl From<Result<TestResult, StatsError>> for TestOutcome {
-    fn from(r: Result<TestResult, StatsError>) -> Self {
-        match r {
-            Ok(t) => Self::Computed(t),
-            Err(e) => Self::NotComputed {
-                error: e.to_string(),
-            },
-        }
-    }
-}
-
-#[derive(Serialize)]
-struct SceneSummary {
-    runs: usize,
-    steps: MeanSd,
-    coverage: MeanSd,
-    collisions: MeanSd,
-    operator_collisions: MeanSd,
-    victims_found: MeanSd,
-    victims_reachable: MeanSd,
-    handoffs_stuck: MeanSd,
-    handoffs_victim: MeanSd,
-    /// Runs that explored every reachable cell.
-    full_coverage_runs: usize,
-    /// Runs that found every reachable victim.
-    all_victims_runs: usize,
-    /// Runs without a collision while the robot was in control.
-    collision_free_runs: usize,
-    /// Mean steps per weight case (Fig. 9).
-    steps_by_weights: BTreeMap<String, MeanSd>,
-}
-
-fn summarize_runs(runs: &[&EvalRun]) -> SceneSummary {
-    let col = |f: &dyn Fn(&EvalRun) -> f64| runs.iter().map(|r| f(r)).collect::<Vec<_>>();
-    let mut by_weights: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    for r in runs {
-        by_weights
-            .entry(r.weights.clone())
-            .or_default()
-            .push(r.steps as f64);
-    }
-    SceneSummary {
-        runs: runs.len(),
-        steps: mean_sd(&col(&|r| r.steps as f64)),
-        coverage: mean_sd(&col(&|r| r.coverage)),
-        collisions: mean_sd(&col(&|r| f64::from(r.collisions))),
-        operator_collisions: mean_sd(&col(&|r| f64::from(r.operator_collisions))),
-        victims_found: mean_sd(&col(&|r| f64::from(r.victims_found))),
-        victims_reachable: mean_sd(&col(&|r| f64::from(r.victims_reachable))),
-        handoffs_stuck: mean_sd(&col(&|r| f64::from(r.handoffs_stuck))),
-        handoffs_victim: mean_sd(&col(&|r| f64::from(r.handoffs_victim))),
-        full_coverage_runs: runs.iter().filter(|r| r.coverage >= 1.0).count(),
-        all_victims_runs: runs
-            .iter()
-            .filter(|r| r.victims_found >= r.victims_reachable)
-            .count(),
-        collision_free_runs: runs.iter().filter(|r| r.collisions == 0).count(),
-        steps_by_weights: by_weights
-            .iter()
-            .map(|(k, v)| (k.clone(), mean_sd(v)))
-            .collect(),
-    }
-}
-
 /// `usar maxq eval`.
 fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     if args.reps == 0 {
@@ -240,33 +152,10 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     let bar = progress::bar(total, "evaluating", args.json);
     let runs = evaluate(&policy.learner, &config, || bar.inc(1));
     bar.finish_and_clear();
-    let mut scenes = BTreeMap::new();
-    for name in &config.scenes {
-        let of_scene: Vec<&EvalRun> = runs.iter().filter(|r| &r.scene == name).collect();
-        scenes.insert(name.clone(), summarize_runs(&of_scene));
-    }
-    // §VI-B: ANOVA of the steps across the weight cases; one-tailed paired t-tests of the
-    // travel-weighted case against each other case, paired by (scene, start, repetition).
-    let steps_of = |w: &str| -> Vec<f64> {
-        runs.iter()
-            .filter(|r| r.weights == w)
-            .map(|r| r.steps as f64)
-            .collect()
-    };
-    let groups: Vec<Vec<f64>> = config.weights.iter().map(|w| steps_of(&w.name)).collect();
-    let group_refs: Vec<&[f64]> = groups.iter().map(Vec::as_slice).collect();
-    let anova = TestOutcome::from(stats::one_way_anova(&group_refs));
-    let travel = steps_of("travel");
-    let mut paired: BTreeMap<String, TestOutcome> = BTreeMap::new();
-    for w in config.weights.iter().filter(|w| w.name != "travel") {
-        paired.insert(
-            format!("travel_vs_{}", w.name),
-            stats::paired_t_test(&travel, &steps_of(&w.name), Tails::Less).into(),
-        );
-    }
+    let analysis = analyse(&runs, &config);
     if let Some(path) = &args.plot {
         let mut bars = Vec::new();
-        for (name, s) in &scenes {
+        for (name, s) in &analysis.scenes {
             for (w, m) in &s.steps_by_weights {
                 bars.push(Bar {
                     label: format!("{name} {w}"),
@@ -287,24 +176,21 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     struct Out<'a> {
         policy: &'a Path,
         runs_total: usize,
-        scenes: BTreeMap<String, SceneSummary>,
-        anova_steps_by_weights: TestOutcome,
-        paired_t_steps: BTreeMap<String, TestOutcome>,
+        #[serde(flatten)]
+        analysis: EvalAnalysis,
         #[serde(skip_serializing_if = "Option::is_none")]
         runs: Option<&'a [EvalRun]>,
     }
     let out = Out {
         policy: &args.policy,
         runs_total: runs.len(),
-        scenes,
-        anova_steps_by_weights: anova,
-        paired_t_steps: paired,
+        analysis,
         runs: args.runs.then_some(runs.as_slice()),
     };
     if args.json {
         return print_json(&out);
     }
-    for (name, s) in &out.scenes {
+    for (name, s) in &out.analysis.scenes {
         println!(
             "scene {name}: steps {:.0} (sd {:.0}), coverage {:.3}, collisions {:.2}, victims {:.2}/{:.2}, hand-offs {:.2} stuck + {:.2} victim; full coverage {}/{} runs",
             s.steps.mean,
