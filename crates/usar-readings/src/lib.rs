@@ -110,7 +110,6 @@ impl Attitude {
     }
 }
 
-
 /// The README's examples, compiled and run as doctests.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]

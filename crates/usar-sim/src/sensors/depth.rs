@@ -1,10 +1,10 @@
 //! The front 3-D depth sensor giving the D_xy array of paper 000 (Fig. 4): a small grid of
 //! ranges looking at the terrain in front of the robot, from which rubble is classified.
 
-use usar_readings::DepthImage;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
+use usar_readings::DepthImage;
 use usar_world::Pose2;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

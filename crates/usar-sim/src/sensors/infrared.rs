@@ -1,10 +1,10 @@
 //! Infrared proximity sensors on the sides and back (paper 000: five sensors around the
 //! perimeter, used to detect obstacles in the neighbouring cells).
 
-use usar_readings::InfraredReading;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
+use usar_readings::InfraredReading;
 use usar_world::Pose2;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

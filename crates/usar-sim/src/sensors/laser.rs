@@ -1,10 +1,10 @@
 //! The horizontal 2-D laser range finder (paper 002: 360°, 1°, 20 m).
 
-use usar_readings::LaserScan;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
+use usar_readings::LaserScan;
 use usar_world::Pose2;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -1,10 +1,10 @@
 //! Odometry (the robot's own estimate of its motion, drifting with noise) and attitude (pitch and
 //! roll from the terrain under the footprint).
 
-use usar_readings::Attitude;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
+use usar_readings::Attitude;
 use usar_world::{Point2, Pose2};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -2,10 +2,10 @@
 //! floor ahead. On a flat floor every beam returns the reference range L; an obstacle of height
 //! h in front shortens it to l₁, and h = (L − l₁)·cos θ, θ being the tilt from the vertical.
 
-use usar_readings::TiltedScan;
 use super::{SensingWorld, gaussian};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
+use usar_readings::TiltedScan;
 use usar_world::Pose2;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
