@@ -57,10 +57,30 @@ impl FactorSpec {
 }
 
 /// A metric a runner reports at the end of every run (and maybe over time).
+impl FactorSpec {
+    pub fn new(name: &str, kind: FactorKind, default: Level, help: &str) -> Self {
+        Self {
+            name: name.into(),
+            kind,
+            default,
+            help: help.into(),
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MetricSpec {
     pub name: String,
     pub help: String,
+}
+
+impl MetricSpec {
+    pub fn new(name: &str, help: &str) -> Self {
+        Self {
+            name: name.into(),
+            help: help.into(),
+        }
+    }
 }
 
 /// One point of a run's series: the x value (time, episode) and the metrics at it.

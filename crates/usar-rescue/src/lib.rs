@@ -9,7 +9,8 @@
 //! - [`operator`]: the hand-off interface and a simulated operator;
 //! - [`training`], [`evaluation`], [`teleoperation`]: the experiments of §VI and §VII-B, and
 //!   [`analysis`]: §VI-B's statistics over an evaluation;
-//! - [`policy`]: the versioned policy file.
+//! - [`policy`]: the versioned policy file;
+//! - [`runner`]: the campaign runner `maxq-eval` (one §VI-B run per configuration and seed).
 //!
 //! ```
 //! use usar_rescue::{DomainConfig, RescueDomain, RescueScene};
@@ -36,6 +37,7 @@ pub mod operator;
 pub mod perception;
 pub mod policy;
 pub mod rewards;
+pub mod runner;
 pub mod state;
 pub mod teleoperation;
 pub mod training;

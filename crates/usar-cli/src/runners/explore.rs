@@ -77,13 +77,13 @@ pub(super) fn scene_and_team_factors(
     robot: &str,
 ) -> Vec<FactorSpec> {
     vec![
-        factor(
+        FactorSpec::new(
             "scene",
             FactorKind::Text { choices: vec![] },
             Level::Text("office".into()),
             scene_help,
         ),
-        factor(
+        FactorSpec::new(
             "scene_seed",
             FactorKind::Int {
                 min: 0,
@@ -92,13 +92,13 @@ pub(super) fn scene_and_team_factors(
             Level::Int(1),
             "seed of a generated scene",
         ),
-        factor(
+        FactorSpec::new(
             "robots",
             FactorKind::Int { min: 1, max: 64 },
             Level::Int(robots),
             "team size",
         ),
-        factor(
+        FactorSpec::new(
             "robot",
             FactorKind::Text { choices: vec![] },
             Level::Text(robot.into()),
@@ -119,22 +119,6 @@ pub(super) fn enough_start_poses(scene: &Scene, robots: usize) -> Result<(), Str
     Ok(())
 }
 
-pub(super) fn factor(name: &str, kind: FactorKind, default: Level, help: &str) -> FactorSpec {
-    FactorSpec {
-        name: name.into(),
-        kind,
-        default,
-        help: help.into(),
-    }
-}
-
-pub(super) fn metric(name: &str, help: &str) -> MetricSpec {
-    MetricSpec {
-        name: name.into(),
-        help: help.into(),
-    }
-}
-
 impl Runner for ExploreRunner {
     fn name(&self) -> &str {
         "explore"
@@ -147,7 +131,7 @@ impl Runner for ExploreRunner {
             "wheeled",
         );
         factors.extend([
-            factor(
+            FactorSpec::new(
                 "minutes",
                 FactorKind::Float {
                     min: 0.01,
@@ -156,13 +140,13 @@ impl Runner for ExploreRunner {
                 Level::Float(20.0),
                 "simulated time limit",
             ),
-            factor(
+            FactorSpec::new(
                 "stop_at_coverage",
                 FactorKind::Float { min: 0.0, max: 1.0 },
                 Level::Float(1.0),
                 "stop at this coverage (1: never)",
             ),
-            factor(
+            FactorSpec::new(
                 "stall_minutes",
                 FactorKind::Float {
                     min: 0.0,
@@ -177,14 +161,14 @@ impl Runner for ExploreRunner {
 
     fn metrics(&self) -> Vec<MetricSpec> {
         vec![
-            metric(
+            MetricSpec::new(
                 "coverage",
                 "known fraction of the reachable area at the end",
             ),
-            metric("victims_seen", "victims whose heat signature a robot saw"),
-            metric("time_s", "simulated time at the end"),
-            metric("distance_m", "distance driven by the whole team"),
-            metric("collisions", "collisions of the whole team"),
+            MetricSpec::new("victims_seen", "victims whose heat signature a robot saw"),
+            MetricSpec::new("time_s", "simulated time at the end"),
+            MetricSpec::new("distance_m", "distance driven by the whole team"),
+            MetricSpec::new("collisions", "collisions of the whole team"),
         ]
     }
 

@@ -1,15 +1,15 @@
 //! The runners campaigns can name: each wraps a controller of the library crates as a
-//! [`usar_campaign::Runner`].
+//! [`usar_campaign::Runner`] (`maxq-eval` lives in `usar-rescue`; `explore` and `team` are still
+//! here).
 
 mod explore;
-mod maxq_eval;
 mod team;
 
 use usar_campaign::Runner;
 
 static EXPLORE: explore::ExploreRunner = explore::ExploreRunner::new();
 static TEAM: team::TeamRunner = team::TeamRunner::new();
-static MAXQ_EVAL: maxq_eval::MaxqEvalRunner = maxq_eval::MaxqEvalRunner::new();
+static MAXQ_EVAL: usar_rescue::runner::MaxqEvalRunner = usar_rescue::runner::MaxqEvalRunner::new();
 
 /// Every runner, by the name campaign files use.
 pub fn all() -> [&'static dyn Runner; 3] {

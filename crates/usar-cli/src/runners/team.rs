@@ -1,6 +1,6 @@
 //! Runner `team`: paper 002's semantically-informed exploration (one `usar team run`).
 
-use super::explore::{enough_start_poses, factor, metric, scene_and_team_factors, scene_for};
+use super::explore::{enough_start_poses, scene_and_team_factors, scene_for};
 use crate::team_setup::{DEFAULT_ROBOT, TeamSetup};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
@@ -93,7 +93,7 @@ impl Runner for TeamRunner {
 
     fn factors(&self) -> Vec<FactorSpec> {
         let text = |name: &str, default: &str, choices: &[&str], help: &str| {
-            factor(
+            FactorSpec::new(
                 name,
                 FactorKind::Text {
                     choices: choices.iter().map(|c| c.to_string()).collect(),
@@ -103,7 +103,7 @@ impl Runner for TeamRunner {
             )
         };
         let float = |name: &str, default: f64, max: f64, help: &str| {
-            factor(
+            FactorSpec::new(
                 name,
                 FactorKind::Float { min: 0.0, max },
                 Level::Float(default),
@@ -177,19 +177,19 @@ impl Runner for TeamRunner {
 
     fn metrics(&self) -> Vec<MetricSpec> {
         let mut m = vec![
-            metric("relevant_area_m2", "explored relevant area at the end"),
-            metric("total_area_m2", "explored area at the end"),
-            metric("distance_m", "distance travelled by the whole team"),
-            metric(
+            MetricSpec::new("relevant_area_m2", "explored relevant area at the end"),
+            MetricSpec::new("total_area_m2", "explored area at the end"),
+            MetricSpec::new("distance_m", "distance travelled by the whole team"),
+            MetricSpec::new(
                 "time_to_relevant_s",
                 "when the relevant-area target (stop_at_relevant, else 0.9) was reached; the run's end if never",
             ),
-            metric(
+            MetricSpec::new(
                 "relevant_fraction",
                 "explored fraction of the relevant area",
             ),
-            metric("time_s", "simulated time at the end"),
-            metric("collisions", "collisions of the whole team"),
+            MetricSpec::new("time_s", "simulated time at the end"),
+            MetricSpec::new("collisions", "collisions of the whole team"),
         ];
         for (_, name) in LABELS {
             m.push(MetricSpec {

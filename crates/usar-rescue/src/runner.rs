@@ -1,21 +1,20 @@
-//! Runner `maxq-eval`: one evaluation run of paper 000's semi-autonomous controller (§VI-B) —
+//! The campaign runner `maxq-eval`: one evaluation run of paper 000's semi-autonomous controller (§VI-B) —
 //! a trained MAXQ policy on scene A, B or C from one of its start poses with one weight case of
 //! Table II, an operator answering the hand-offs.
 //!
 //! The policy is a policy file (`policy`), or, when that is empty, trained once per campaign
 //! with `train_trials` and `train_seed` — so a campaign is self-contained and resumable.
 
-use super::explore::{factor, metric};
+use crate::domain::RescueScene;
+use crate::evaluation::{EvalConfig, SCENES, eval_scene, run_once};
+use crate::exploration::ExplorationWeights;
+use crate::policy::PolicyFile;
+use crate::training::{TrainConfig, train};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 use usar_campaign::{Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner};
 use usar_maxq::MaxqQ;
-use usar_rescue::domain::RescueScene;
-use usar_rescue::evaluation::{EvalConfig, SCENES, eval_scene, run_once};
-use usar_rescue::exploration::ExplorationWeights;
-use usar_rescue::policy::PolicyFile;
-use usar_rescue::training::{TrainConfig, train};
 
 /// Policies by (file, trials, seed) and scenes by (name, seed), built once per campaign.
 pub struct MaxqEvalRunner {
@@ -23,7 +22,14 @@ pub struct MaxqEvalRunner {
     scenes: Mutex<BTreeMap<(String, u64), Arc<RescueScene>>>,
 }
 
+impl Default for MaxqEvalRunner {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl MaxqEvalRunner {
+    /// A runner with empty policy and scene caches (`const`, so it can be a `static`).
     pub const fn new() -> Self {
         Self {
             policies: Mutex::new(BTreeMap::new()),
@@ -83,7 +89,7 @@ impl Runner for MaxqEvalRunner {
 
     fn factors(&self) -> Vec<FactorSpec> {
         let int = |name: &str, min: i64, max: i64, default: i64, help: &str| {
-            factor(
+            FactorSpec::new(
                 name,
                 FactorKind::Int { min, max },
                 Level::Int(default),
@@ -95,7 +101,7 @@ impl Runner for MaxqEvalRunner {
             .map(|w| w.name.clone())
             .collect();
         vec![
-            factor(
+            FactorSpec::new(
                 "policy",
                 FactorKind::Text { choices: vec![] },
                 Level::Text(String::new()),
@@ -115,7 +121,7 @@ impl Runner for MaxqEvalRunner {
                 1,
                 "training seed when no policy file is given",
             ),
-            factor(
+            FactorSpec::new(
                 "scene",
                 FactorKind::Text {
                     choices: SCENES.iter().map(|(n, _)| n.to_string()).collect(),
@@ -125,7 +131,7 @@ impl Runner for MaxqEvalRunner {
             ),
             int("scene_seed", 0, i64::MAX, 1, "seed of the scene generator"),
             int("start", 0, 2, 0, "start pose of the scene (0, 1, 2)"),
-            factor(
+            FactorSpec::new(
                 "weights",
                 FactorKind::Text { choices: weights },
                 Level::Text("travel".into()),
@@ -143,17 +149,17 @@ impl Runner for MaxqEvalRunner {
 
     fn metrics(&self) -> Vec<MetricSpec> {
         vec![
-            metric("steps", "navigation primitives until the robot exits"),
-            metric("coverage", "reachable cells visited / reachable cells"),
-            metric("collisions", "collisions while the robot was in control"),
-            metric("operator_collisions", "collisions while the operator drove"),
-            metric("victims_found", "victims tagged"),
-            metric("victims_reachable", "victims in the reachable cells"),
-            metric("false_tags", "tags of heat sources that are not victims"),
-            metric("handoffs_stuck", "hand-offs because the robot was stuck"),
-            metric("handoffs_victim", "hand-offs to identify a victim"),
-            metric("time_s", "mission time, operator delays included"),
-            metric("exited", "1 if the robot exited by itself, 0 if cut off"),
+            MetricSpec::new("steps", "navigation primitives until the robot exits"),
+            MetricSpec::new("coverage", "reachable cells visited / reachable cells"),
+            MetricSpec::new("collisions", "collisions while the robot was in control"),
+            MetricSpec::new("operator_collisions", "collisions while the operator drove"),
+            MetricSpec::new("victims_found", "victims tagged"),
+            MetricSpec::new("victims_reachable", "victims in the reachable cells"),
+            MetricSpec::new("false_tags", "tags of heat sources that are not victims"),
+            MetricSpec::new("handoffs_stuck", "hand-offs because the robot was stuck"),
+            MetricSpec::new("handoffs_victim", "hand-offs to identify a victim"),
+            MetricSpec::new("time_s", "mission time, operator delays included"),
+            MetricSpec::new("exited", "1 if the robot exited by itself, 0 if cut off"),
         ]
     }
 
@@ -213,5 +219,45 @@ impl Runner for MaxqEvalRunner {
             metrics,
             series: Vec::new(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use usar_campaign::design::Level;
+
+    #[test]
+    fn a_run_trains_its_policy_once_and_reports_every_metric() {
+        let runner = MaxqEvalRunner::new();
+        let mut levels: BTreeMap<String, Level> = runner
+            .factors()
+            .into_iter()
+            .map(|f| (f.name, f.default))
+            .collect();
+        levels.insert("train_trials".into(), Level::Int(3));
+        levels.insert("max_steps".into(), Level::Int(300));
+        let mut config = Config(levels);
+        assert_eq!(runner.check(&config), Ok(()));
+        let a = runner.run(&config, 7).unwrap();
+        let b = runner.run(&config, 7).unwrap();
+        assert_eq!(a, b, "a run is a pure function of configuration and seed");
+        assert_eq!(runner.policies.lock().unwrap().len(), 1, "trained once");
+        let names: Vec<String> = runner.metrics().into_iter().map(|m| m.name).collect();
+        assert!(
+            names.iter().all(|n| a.metrics.contains_key(n)),
+            "{:?}",
+            a.metrics
+        );
+        assert!(a.metrics["steps"] <= 300.0);
+        config
+            .0
+            .insert("policy".into(), Level::Text("no/such/policy.json".into()));
+        assert!(
+            runner
+                .check(&config)
+                .unwrap_err()
+                .contains("does not exist")
+        );
     }
 }
