@@ -4,9 +4,9 @@
 use crate::cli::{GeneratorKind, ImageArgs, SceneSpec};
 use crate::failure::{CmdResult, InputContext, bad_input};
 use std::path::Path;
-use usar_world::generate::{SceneKind, generate};
-use usar_world::io::image_map::{ImageMapOptions, read_image_map};
-use usar_world::{Point2, Scene};
+use usar_world::Scene;
+use usar_world::generate::SceneKind;
+use usar_world::io::source::{BareImage, load_scene};
 
 pub fn kind(k: GeneratorKind) -> SceneKind {
     match k {
@@ -17,21 +17,16 @@ pub fn kind(k: GeneratorKind) -> SceneKind {
     }
 }
 
-pub fn image_options(image: &ImageArgs, path: &Path) -> CmdResult<ImageMapOptions> {
-    let resolution_m = image.resolution.ok_or_else(|| {
-        bad_input(anyhow::anyhow!(
-            "{}: a bare map image needs --resolution (metres per pixel), e.g. --resolution 0.05",
-            path.display()
-        ))
-    })?;
-    Ok(ImageMapOptions {
-        resolution_m,
-        origin: Point2::new(0.0, 0.0),
-        negate: image.negate,
-        occupied_thresh: image.occupied_thresh,
-        free_thresh: image.free_thresh,
-        ..ImageMapOptions::default()
-    })
+impl ImageArgs {
+    /// The library's options for a bare map image.
+    pub fn bare(&self) -> BareImage {
+        BareImage {
+            resolution_m: self.resolution,
+            negate: self.negate,
+            occupied_thresh: self.occupied_thresh,
+            free_thresh: self.free_thresh,
+        }
+    }
 }
 
 /// The scene a command's [`SceneSpec`] names.
@@ -57,38 +52,10 @@ pub fn check_scene_output(path: &Path, option: &str) -> CmdResult {
     )))
 }
 
-/// Loads a scene from a path (by extension) or generates one by name.
+/// Loads a scene from a path (by extension) or generates one by name
+/// ([`usar_world::io::source::load_scene`]).
 pub fn load(spec: &str, seed: u64, image: &ImageArgs) -> CmdResult<Scene> {
-    if let Ok(kind) = spec.parse::<SceneKind>()
-        && !Path::new(spec).exists()
-    {
-        return Ok(generate(kind, seed));
-    }
-    let path = Path::new(spec);
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    match ext.as_str() {
-        "json" => usar_world::read_scene(path).input(),
-        "yaml" | "yml" => usar_world::io::ros::read_ros_map(path).input(),
-        "pgm" | "png" => read_image_map(path, &image_options(image, path)?).input(),
-        "map" => {
-            let map = usar_world::io::movingai::read_movingai_map(path).input()?;
-            let name = path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            map.to_scene(&name, image.resolution.unwrap_or(1.0)).input()
-        }
-        _ if !path.exists() => Err(bad_input(anyhow::anyhow!(
-            "{spec}: no such file, and not a generator name (expected rubble, office, mall or course)"
-        ))),
-        _ => Err(bad_input(anyhow::anyhow!(
-            "{spec}: unknown scene format {ext:?}, expected .json (usar scene), .yaml (ROS map_server), .pgm/.png (map image) or .map (MovingAI)"
-        ))),
-    }
+    load_scene(spec, seed, &image.bare()).input()
 }
 
 /// A robot model from a preset name (`crawler`, `wheeled`) or a robot TOML file.
