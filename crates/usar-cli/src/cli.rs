@@ -735,7 +735,7 @@ pub struct TeamRunArgs {
     pub seed: u64,
     /// Robot model: crawler, wheeled, wheeled-paper-pace (the wheeled robot at 0.3 × its
     /// speeds, near the pace of paper 002's robots), or a robot TOML file.
-    #[arg(long, default_value = crate::team_setup::DEFAULT_ROBOT)]
+    #[arg(long, default_value = usar_team::setup::DEFAULT_ROBOT)]
     pub robot: String,
     /// Semantic errors (paper 002 §4.4): `perfect`, `random:RATE` (each classification wrong
     /// with probability RATE) or `until-known:FRACTION` (random label while less than

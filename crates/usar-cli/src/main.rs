@@ -7,7 +7,6 @@ mod failure;
 mod progress;
 mod runners;
 mod scene_source;
-mod team_setup;
 
 use clap::Parser;
 use std::process::ExitCode;

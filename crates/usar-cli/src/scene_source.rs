@@ -58,18 +58,9 @@ pub fn load(spec: &str, seed: u64, image: &ImageArgs) -> CmdResult<Scene> {
     load_scene(spec, seed, &image.bare()).input()
 }
 
-/// A robot model from a preset name (`crawler`, `wheeled`) or a robot TOML file.
+/// A robot model from a preset name or a robot TOML file ([`usar_sim::RobotSpec::load`]).
 pub fn load_robot(spec: &str) -> CmdResult<usar_sim::RobotSpec> {
-    if let Some(preset) = usar_sim::RobotSpec::preset(spec) {
-        return Ok(preset);
-    }
-    let path = Path::new(spec);
-    if !path.exists() {
-        return Err(bad_input(anyhow::anyhow!(
-            "{spec}: not a robot preset (crawler, wheeled) and no such robot file"
-        )));
-    }
-    usar_sim::RobotSpec::from_toml_file(path).input()
+    usar_sim::RobotSpec::load(spec).input()
 }
 
 /// Reads a TOML settings file into `T`; a bad file is bad input naming the file and the line.

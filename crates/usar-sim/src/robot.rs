@@ -107,6 +107,24 @@ impl RobotSpec {
         0.5 * self.length_m.hypot(self.width_m)
     }
 
+    /// A robot named the way a user names one: a preset (`crawler`, `wheeled`,
+    /// `wheeled-paper-pace`) or the path of a robot file.
+    pub fn load(spec: &str) -> Result<Self, crate::SimError> {
+        if let Some(preset) = Self::preset(spec) {
+            return Ok(preset);
+        }
+        let path = Path::new(spec);
+        if !path.exists() {
+            return Err(crate::SimError::RobotFile {
+                path: spec.to_string(),
+                message: "not a robot preset (crawler, wheeled, wheeled-paper-pace) and no such \
+                          robot file"
+                    .into(),
+            });
+        }
+        Self::from_toml_file(path)
+    }
+
     /// Reads a robot file (TOML). It names a `preset` to start from and overrides fields of it.
     pub fn from_toml_file(path: &Path) -> Result<Self, crate::SimError> {
         let text = usar_world::limits::read_text(path).map_err(|e| crate::SimError::RobotFile {

@@ -26,8 +26,10 @@ mod outcome;
 pub mod paper_run;
 pub mod report;
 pub mod room_candidates;
+pub mod runner;
 pub mod scene_prep;
 pub mod semantic_map;
+pub mod setup;
 pub mod team_size;
 pub mod travel_time;
 

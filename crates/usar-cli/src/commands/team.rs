@@ -3,12 +3,12 @@
 use super::print_json;
 use crate::cli::{TeamCommand, TeamRunArgs};
 use crate::failure::{CmdResult, InputContext, bad_input};
-use crate::team_setup::{TeamSetup, parse_failure};
 use crate::{progress, scene_source};
 use std::sync::Arc;
 use usar_map::segmentation::SegmentationParams;
 use usar_team::paper_run::RunSummary;
 use usar_team::scene_prep::prepare_scene;
+use usar_team::setup::{TeamSetup, parse_failure};
 use usar_team::{Radio, TeamMission};
 
 pub fn run(cmd: TeamCommand) -> CmdResult {

@@ -1,14 +1,11 @@
 //! The runners campaigns can name: each wraps a controller of the library crates as a
-//! [`usar_campaign::Runner`] (`maxq-eval` lives in `usar-rescue`; `explore` and `team` are still
-//! here).
-
-mod explore;
-mod team;
+//! [`usar_campaign::Runner`] and lives in the controller's crate (`explore` and `team` in
+//! `usar-team`, `maxq-eval` in `usar-rescue`); here they are named and the presets kept.
 
 use usar_campaign::Runner;
 
-static EXPLORE: explore::ExploreRunner = explore::ExploreRunner::new();
-static TEAM: team::TeamRunner = team::TeamRunner::new();
+static EXPLORE: usar_team::runner::ExploreRunner = usar_team::runner::ExploreRunner::new();
+static TEAM: usar_team::runner::TeamRunner = usar_team::runner::TeamRunner::new();
 static MAXQ_EVAL: usar_rescue::runner::MaxqEvalRunner = usar_rescue::runner::MaxqEvalRunner::new();
 
 /// Every runner, by the name campaign files use.

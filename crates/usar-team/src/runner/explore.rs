@@ -1,22 +1,28 @@
 //! Runner `explore`: the baseline nearest-frontier team explorer (paper 002's Distance
 //! strategy) on a scene.
 
-use crate::cli::ImageArgs;
-use crate::scene_source;
+use crate::{TeamConfig, TeamMission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use usar_campaign::{
     Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
 };
-use usar_team::{TeamConfig, TeamMission};
 use usar_world::Scene;
+use usar_world::io::source::{BareImage, load_scene};
 
 pub struct ExploreRunner {
     /// Scenes by (scene, scene_seed): generated or read once per campaign.
     scenes: Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
 }
 
+impl Default for ExploreRunner {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl ExploreRunner {
+    /// A runner with an empty scene cache (`const`, so it can be a `static`).
     pub const fn new() -> Self {
         Self {
             scenes: Mutex::new(BTreeMap::new()),
@@ -28,8 +34,8 @@ impl ExploreRunner {
     }
 
     fn team_config(config: &Config) -> Result<TeamConfig, String> {
-        let robot = scene_source::load_robot(config.text("robot").unwrap_or("wheeled"))
-            .map_err(|f| format!("{:#}", f.error))?;
+        let robot = usar_sim::RobotSpec::load(config.text("robot").unwrap_or("wheeled"))
+            .map_err(|e| e.to_string())?;
         let stop = config.float("stop_at_coverage").unwrap_or(1.0);
         let stall = config.float("stall_minutes").unwrap_or(3.0);
         Ok(TeamConfig {
@@ -44,7 +50,7 @@ impl ExploreRunner {
 }
 
 /// The scene a configuration names (`scene`, `scene_seed`), from `cache` or loaded into it.
-pub(super) fn scene_for(
+pub(crate) fn scene_for(
     cache: &Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
     config: &Config,
 ) -> Result<Arc<Scene>, String> {
@@ -54,14 +60,8 @@ pub(super) fn scene_for(
     if let Some(s) = cache.lock().expect("scene cache").get(&key) {
         return Ok(s.clone());
     }
-    let image = ImageArgs {
-        resolution: None,
-        negate: false,
-        occupied_thresh: 0.65,
-        free_thresh: 0.196,
-    };
-    let scene =
-        Arc::new(scene_source::load(&name, seed, &image).map_err(|f| format!("{:#}", f.error))?);
+    let scene = load_scene(&name, seed, &BareImage::default()).map_err(|e| e.to_string())?;
+    let scene = Arc::new(scene);
     cache
         .lock()
         .expect("scene cache")
@@ -71,7 +71,7 @@ pub(super) fn scene_for(
 
 /// The factors every team runner has: `scene`, `scene_seed`, `robots` and `robot` (defaults
 /// `robots` and `robot`).
-pub(super) fn scene_and_team_factors(
+pub(crate) fn scene_and_team_factors(
     scene_help: &str,
     robots: i64,
     robot: &str,
@@ -108,7 +108,7 @@ pub(super) fn scene_and_team_factors(
 }
 
 /// A team of `robots` needs as many start poses in the scene.
-pub(super) fn enough_start_poses(scene: &Scene, robots: usize) -> Result<(), String> {
+pub(crate) fn enough_start_poses(scene: &Scene, robots: usize) -> Result<(), String> {
     if scene.start_poses.len() < robots {
         return Err(format!(
             "scene {} has {} start poses, robots = {robots}",

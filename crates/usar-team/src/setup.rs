@@ -2,11 +2,11 @@
 //! names of strategies, coordination methods, hypotheses and error models, turned into a
 //! mission configuration.
 
-use usar_team::coordination::Coordination;
-use usar_team::criteria::Hypothesis;
-use usar_team::room_candidates::CandidateGrouping;
-use usar_team::semantic_map::LabelErrors;
-use usar_team::{Exploration, Radio, RobotFailure, Strategy, TeamConfig};
+use crate::coordination::Coordination;
+use crate::criteria::Hypothesis;
+use crate::room_candidates::CandidateGrouping;
+use crate::semantic_map::LabelErrors;
+use crate::{Exploration, Radio, RobotFailure, Strategy, TeamConfig};
 
 /// The robot of a team run when none is named: the wheeled robot at paper 002's pace
 /// ([`usar_sim::RobotSpec::wheeled_paper_pace`]).
@@ -68,8 +68,7 @@ impl TeamSetup<'_> {
                 self.merge_period_s
             ));
         }
-        let robot =
-            crate::scene_source::load_robot(self.robot).map_err(|f| format!("{:#}", f.error))?;
+        let robot = usar_sim::RobotSpec::load(self.robot).map_err(|e| e.to_string())?;
         let exploration = Exploration {
             strategy,
             coordination,

@@ -1,16 +1,16 @@
 //! Runner `team`: paper 002's semantically-informed exploration (one `usar team run`).
 
 use super::explore::{enough_start_poses, scene_and_team_factors, scene_for};
-use crate::team_setup::{DEFAULT_ROBOT, TeamSetup};
+use crate::paper_run::RunSummary;
+use crate::scene_prep::prepare_scene;
+use crate::setup::{DEFAULT_ROBOT, TeamSetup};
+use crate::{Radio, TeamConfig, TeamMission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use usar_campaign::{
     Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
 };
 use usar_map::segmentation::SegmentationParams;
-use usar_team::paper_run::RunSummary;
-use usar_team::scene_prep::prepare_scene;
-use usar_team::{Radio, TeamConfig, TeamMission};
 use usar_world::{RoomLabel, Scene};
 
 pub struct TeamRunner {
@@ -28,7 +28,14 @@ const LABELS: [(RoomLabel, &str); 4] = [
     (RoomLabel::BigRoom, "big_room"),
 ];
 
+impl Default for TeamRunner {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl TeamRunner {
+    /// A runner with empty caches (`const`, so it can be a `static`).
     pub const fn new() -> Self {
         Self {
             scenes: Mutex::new(BTreeMap::new()),
