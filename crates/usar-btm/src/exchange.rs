@@ -7,6 +7,7 @@
 //! unique ids. GraphML is written only.
 
 use crate::model::{Btm, Link, Node};
+use crate::store::BtmError;
 use serde::{Deserialize, Serialize};
 
 pub const JSON_FORMAT: &str = "usar-btm";
@@ -51,35 +52,40 @@ pub fn to_json(btm: &Btm) -> String {
 
 /// Reads a map from JSON and checks it ([`crate::validate::check`]); `source` names it in
 /// errors.
-pub fn from_json(text: &str, source: &str) -> Result<Btm, String> {
+pub fn from_json(text: &str, source: &str) -> Result<Btm, BtmError> {
+    let invalid = |what: String, message: String| BtmError::Invalid {
+        path: source.to_string(),
+        what,
+        message,
+    };
     let file: JsonFile = serde_json::from_str(text).map_err(|e| {
         let message = e.to_string();
         let message = message
             .rsplit_once(" at line ")
-            .map_or(message.as_str(), |(m, _)| m);
-        format!(
-            "{source}: line {} column {}: {message}",
-            e.line(),
-            e.column()
-        )
+            .map_or(message.as_str(), |(m, _)| m)
+            .to_string();
+        invalid(format!("line {} column {}", e.line(), e.column()), message)
     })?;
     if file.format != JSON_FORMAT {
-        return Err(format!(
-            "{source}: field `format`: found {:?}, expected \"{JSON_FORMAT}\"",
-            file.format
+        return Err(invalid(
+            "field `format`".into(),
+            format!("found {:?}, expected \"{JSON_FORMAT}\"", file.format),
         ));
     }
     if file.version > JSON_VERSION {
-        return Err(format!(
-            "{source}: field `version`: found {}, expected {JSON_VERSION} or older",
-            file.version
+        return Err(invalid(
+            "field `version`".into(),
+            format!("found {}, expected {JSON_VERSION} or older", file.version),
         ));
     }
     let btm = Btm {
         nodes: file.nodes,
         links: file.links,
     };
-    crate::validate::check(&btm).map_err(|e| format!("{source}: {e}"))?;
+    crate::validate::check(&btm).map_err(|problem| BtmError::Check {
+        path: source.to_string(),
+        problem,
+    })?;
     Ok(btm)
 }
 
@@ -180,7 +186,7 @@ pub fn to_graphml(btm: &Btm) -> String {
 /// Reads a BTM from a `.json` file, a binary `.btmb` file ([`crate::wire`]) or a BTM database
 /// (any other extension but `.graphml`, which is written only), and checks it
 /// ([`crate::validate`]). Errors are one line naming the file.
-pub fn read(path: &std::path::Path) -> Result<Btm, String> {
+pub fn read(path: &std::path::Path) -> Result<Btm, BtmError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -188,31 +194,34 @@ pub fn read(path: &std::path::Path) -> Result<Btm, String> {
         .unwrap_or_default();
     match ext.as_str() {
         "graphml" => {
-            return Err(format!(
-                "{}: GraphML is an export format only, expected a .json, .btmb or BTM database (.sqlite) file",
-                path.display()
-            ));
+            return Err(BtmError::Format {
+                path: path.display().to_string(),
+                message: "GraphML is an export format only, expected a .json, .btmb or BTM \
+                          database (.sqlite) file"
+                    .into(),
+            });
         }
         // Read whole under the process's file-size limit (`usar --max-file-mb`), checked
         // before anything is read.
         "json" => {
-            let text = usar_world::limits::read_text(path).map_err(|e| e.to_string())?;
+            let text = usar_world::limits::read_text(path)?;
             return from_json(&text, &path.display().to_string());
         }
         "btmb" => {
-            let bytes = usar_world::limits::read_file(path).map_err(|e| e.to_string())?;
-            return crate::wire::decode(&bytes).map_err(|e| format!("{}: {e}", path.display()));
+            let bytes = usar_world::limits::read_file(path)?;
+            return crate::wire::decode(&bytes).map_err(|problem| BtmError::Wire {
+                path: path.display().to_string(),
+                problem,
+            });
         }
         _ => {}
     }
-    crate::store::BtmStore::open(path)
-        .and_then(|s| s.load())
-        .map_err(|e| e.to_string())
+    crate::store::BtmStore::open(path).and_then(|s| s.load())
 }
 
 /// Writes a BTM as `.json`, `.graphml`, binary `.btmb` or a new BTM database (`.sqlite`),
 /// atomically: the file appears complete or not at all.
-pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), String> {
+pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), BtmError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -221,25 +230,24 @@ pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), String> {
     let text = match ext.as_str() {
         "json" => to_json(btm),
         "graphml" => to_graphml(btm),
-        "btmb" => {
-            return usar_world::write_atomic(path, &crate::wire::encode(btm))
-                .map_err(|e| e.to_string());
-        }
+        "btmb" => return Ok(usar_world::write_atomic(path, &crate::wire::encode(btm))?),
         "sqlite" | "db" => {
             let tmp = path.with_extension("sqlite.partial");
             let _ = std::fs::remove_file(&tmp);
-            let mut store = crate::store::BtmStore::create(&tmp).map_err(|e| e.to_string())?;
-            store.put_all(btm).map_err(|e| e.to_string())?;
+            let mut store = crate::store::BtmStore::create(&tmp)?;
+            store.put_all(btm)?;
             drop(store);
             return std::fs::rename(&tmp, path)
-                .map_err(|e| format!("{}: cannot move into place: {e}", path.display()));
+                .map_err(|io| usar_world::WorldError::io(path, io).into());
         }
         _ => {
-            return Err(format!(
-                "{}: unknown BTM format {ext:?}, expected .json, .graphml, .btmb or .sqlite",
-                path.display()
-            ));
+            return Err(BtmError::Format {
+                path: path.display().to_string(),
+                message: format!(
+                    "unknown BTM format {ext:?}, expected .json, .graphml, .btmb or .sqlite"
+                ),
+            });
         }
     };
-    usar_world::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())
+    Ok(usar_world::write_atomic(path, text.as_bytes())?)
 }

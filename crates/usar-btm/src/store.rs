@@ -69,6 +69,24 @@ pub enum BtmError {
         what: String,
         message: String,
     },
+    /// A map that reads but fails its checks ([`crate::validate`]).
+    #[error("{path}: {problem}")]
+    Check {
+        path: String,
+        problem: crate::validate::Invalid,
+    },
+    /// A `.btmb` file that is not a binary BTM.
+    #[error("{path}: {problem}")]
+    Wire {
+        path: String,
+        problem: crate::wire::DecodeError,
+    },
+    /// A file name whose extension names no BTM format (or one that is written only).
+    #[error("{path}: {message}")]
+    Format { path: String, message: String },
+    /// A file could not be read or written (size limits included).
+    #[error(transparent)]
+    File(#[from] usar_world::WorldError),
 }
 
 /// An open BTM database.

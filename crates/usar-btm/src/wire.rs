@@ -269,11 +269,22 @@ impl Reader<'_> {
     }
 }
 
+/// Why bytes are not a binary BTM.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum DecodeError {
+    /// The bytes break the wire format: `at` is "byte N: what was wrong".
+    #[error("{0}")]
+    Bytes(String),
+    /// The bytes decode to a map that fails its checks.
+    #[error(transparent)]
+    Check(#[from] crate::validate::Invalid),
+}
+
 /// Decodes the binary wire form and checks the map ([`crate::validate::check`]); errors name
 /// the byte offset and what was wrong, or the node or link and its field.
-pub fn decode(bytes: &[u8]) -> Result<Btm, String> {
-    let btm = decode_unchecked(bytes)?;
-    crate::validate::check(&btm).map_err(|e| e.to_string())?;
+pub fn decode(bytes: &[u8]) -> Result<Btm, DecodeError> {
+    let btm = decode_unchecked(bytes).map_err(DecodeError::Bytes)?;
+    crate::validate::check(&btm)?;
     Ok(btm)
 }
 
@@ -422,10 +433,20 @@ mod tests {
         }
         let mut longer = bytes.clone();
         longer.push(0);
-        assert!(decode(&longer).unwrap_err().contains("after the map"));
-        assert!(decode(b"PK\x03\x04rest").unwrap_err().contains("magic"));
+        assert!(
+            decode(&longer)
+                .unwrap_err()
+                .to_string()
+                .contains("after the map")
+        );
+        assert!(
+            decode(b"PK\x03\x04rest")
+                .unwrap_err()
+                .to_string()
+                .contains("magic")
+        );
         let mut newer = bytes;
         newer[4] = WIRE_VERSION + 1;
-        assert!(decode(&newer).unwrap_err().contains("version"));
+        assert!(decode(&newer).unwrap_err().to_string().contains("version"));
     }
 }

@@ -121,12 +121,16 @@ fn json_round_trips_and_keeps_unknown_kinds() {
     assert!(text.contains("\"link_angles_rad\""));
     let back = from_json(&text, "m.json").unwrap();
     assert_eq!(back, btm);
-    let err = from_json(&text.replace("\"start\": 2", "\"start\": 99"), "m.json").unwrap_err();
+    let err = from_json(&text.replace("\"start\": 2", "\"start\": 99"), "m.json")
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("m.json: link 2 field `start`: found node 99, which does not exist"),
         "{err}"
     );
-    let err = from_json(&text.replace("\"version\": 1", "\"version\": 7"), "m.json").unwrap_err();
+    let err = from_json(&text.replace("\"version\": 1", "\"version\": 7"), "m.json")
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("field `version`: found 7"), "{err}");
 }
 

@@ -159,7 +159,7 @@ fn write_sqlite(path: &Path, btm: &Btm) {
 }
 
 fn refused(path: &Path, start: &str, expected: &str) {
-    let err = read(path).expect_err(start);
+    let err = read(path).expect_err(start).to_string();
     assert!(
         err.starts_with(&format!("{}: ", path.display())),
         "names the file: {err}"
@@ -294,7 +294,7 @@ fn a_json_number_out_of_range_is_one_line_naming_the_file() {
     let text = to_json(&sample()).replacen("\"x_m\": 5.0", "\"x_m\": 1e999", 1);
     assert!(text.contains("1e999"));
     std::fs::write(&path, text).unwrap();
-    let err = read(&path).unwrap_err();
+    let err = read(&path).unwrap_err().to_string();
     assert!(
         err.starts_with(&format!("{}: line ", path.display())),
         "{err}"
@@ -351,7 +351,7 @@ fn huge_declared_counts_are_refused_before_anything_is_allocated() {
         (length, "4611686018427387904 string bytes declared"),
         (links, "3 links declared, but only 20 bytes are left"),
     ] {
-        let err = wire::decode(&btmb(&rest)).unwrap_err();
+        let err = wire::decode(&btmb(&rest)).unwrap_err().to_string();
         assert!(err.contains(needle), "{needle:?} not in {err}");
     }
     // A file past the file-size limit is refused before it is read (a sparse file: no disk
@@ -364,7 +364,7 @@ fn huge_declared_counts_are_refused_before_anything_is_allocated() {
             .unwrap()
             .set_len(max + 1)
             .unwrap();
-        let err = read(&path).unwrap_err();
+        let err = read(&path).unwrap_err().to_string();
         assert!(err.contains("huge.") && err.contains("file size"), "{err}");
         assert!(err.contains(&format!("at most {max} bytes")), "{err}");
     }
@@ -375,6 +375,6 @@ fn graphml_is_not_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("m.graphml");
     std::fs::write(&path, usar_btm::exchange::to_graphml(&sample())).unwrap();
-    let err = read(&path).unwrap_err();
+    let err = read(&path).unwrap_err().to_string();
     assert!(err.contains("GraphML is an export format only"), "{err}");
 }

@@ -348,9 +348,10 @@ fn btm_json_seeds() -> Vec<Vec<u8>> {
 }
 
 fn load_btm_json(bytes: &[u8]) -> Result<(), String> {
-    let btm = usar_btm::exchange::from_json(utf8(bytes)?, "fuzz.json")?;
+    let btm =
+        usar_btm::exchange::from_json(utf8(bytes)?, "fuzz.json").map_err(|e| e.to_string())?;
     // A map that loaded must survive what commands do with it.
-    usar_btm::wire::decode(&usar_btm::wire::encode(&btm))?;
+    usar_btm::wire::decode(&usar_btm::wire::encode(&btm)).map_err(|e| e.to_string())?;
     Ok(())
 }
 
@@ -359,7 +360,8 @@ fn btm_wire_seeds() -> Vec<Vec<u8>> {
 }
 
 fn load_btm_wire(bytes: &[u8]) -> Result<(), String> {
-    let btm = usar_btm::wire::decode(bytes)?;
-    usar_btm::exchange::from_json(&usar_btm::exchange::to_json(&btm), "round trip")?;
+    let btm = usar_btm::wire::decode(bytes).map_err(|e| e.to_string())?;
+    usar_btm::exchange::from_json(&usar_btm::exchange::to_json(&btm), "round trip")
+        .map_err(|e| e.to_string())?;
     Ok(())
 }

@@ -24,7 +24,7 @@ pub fn run(cmd: BtmCommand) -> CmdResult {
 }
 
 fn read(path: &Path) -> CmdResult<Btm> {
-    exchange::read(path).map_err(|e| bad_input(anyhow::anyhow!(e)))
+    exchange::read(path).input()
 }
 
 fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
@@ -224,7 +224,7 @@ fn describe(btm: &Btm) -> serde_json::Value {
 fn export(args: BtmExportArgs) -> CmdResult {
     let btm = read(&args.btm)?;
     if let Some(out) = &args.out {
-        exchange::write(&btm, out).map_err(|e| bad_input(anyhow::anyhow!(e)))?;
+        exchange::write(&btm, out).input()?;
     }
     if args.json {
         return print_json(&describe(&btm));
@@ -328,7 +328,7 @@ fn merge(args: BtmMergeArgs) -> CmdResult {
         .map(|p| read(p))
         .collect::<CmdResult<_>>()?;
     let merged = usar_btm::merge::merge(&maps, args.radius);
-    exchange::write(&merged, &args.out).map_err(|e| bad_input(anyhow::anyhow!(e)))?;
+    exchange::write(&merged, &args.out).input()?;
     if args.json {
         print_json(
             &json!({ "inputs": maps.len(), "out": args.out, "nodes": merged.nodes.len(), "links": merged.links.len() }),
