@@ -180,6 +180,8 @@ pub struct TeamConfig {
     /// `rescan_turn_rad`) since its last one: the world is static, the scan would add nothing.
     pub rescan_distance_m: f64,
     pub rescan_turn_rad: f64,
+    /// Thresholds of driving, recovery and allocation the papers do not give.
+    pub tuning: crate::tuning::Tuning,
 }
 
 impl Default for TeamConfig {
@@ -201,6 +203,7 @@ impl Default for TeamConfig {
             failures: Vec::new(),
             rescan_distance_m: 0.0,
             rescan_turn_rad: 0.0,
+            tuning: crate::tuning::Tuning::default(),
         }
     }
 }

@@ -32,6 +32,7 @@ pub mod semantic_map;
 pub mod setup;
 pub mod team_size;
 pub mod travel_time;
+pub mod tuning;
 
 pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
 pub use self::mission::{MissionError, MissionHook, TeamMission};

@@ -12,6 +12,7 @@ use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 use crate::room_candidates::{CandidateGrouping, ClusterCandidate, group_by_room};
 use crate::semantic_map::SemanticMap;
 use crate::travel_time::TravelTimes;
+use crate::tuning::Tuning;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::collections::BTreeMap;
@@ -28,58 +29,6 @@ const STRATEGY_STREAM: u64 = (1 << 20) + 1;
 const RADIO_STREAM: u64 = (1 << 20) + 2;
 /// Fraction of the relevant area whose time is reported when no stop target is set (§4.4).
 const DEFAULT_RELEVANT_TARGET: f64 = 0.9;
-
-/// A robot is stuck when, while it had a target, it moved less than [`STUCK_DISTANCE_M`] and
-/// turned less than [`STUCK_TURN_RAD`] in [`STUCK_WINDOW_S`]. Turning counts as progress: a
-/// robot at paper 002's pace (0.36 rad/s) needs almost 9 s to turn round in place towards a
-/// target behind it.
-const STUCK_DISTANCE_M: f64 = 0.2;
-const STUCK_TURN_RAD: f64 = 0.35;
-/// Turning counts as progress for one full turn at most while the robot stays put: one that
-/// spins on the spot is stuck too.
-const MAX_TURN_IN_PLACE_RAD: f64 = std::f64::consts::TAU;
-const STUCK_WINDOW_S: f64 = 4.0;
-/// A candidate a robot got stuck on is not given to it again for this long.
-const BLACKLIST_S: f64 = 30.0;
-/// A candidate a robot reached is not given to it again for this long.
-const REACHED_BLACKLIST_S: f64 = 20.0;
-/// Commitment: at a periodic reassignment, a candidate within this distance (cells) of the
-/// robot's current target costs it [`COMMITMENT_FACTOR`] × its path cost, so that two frontiers
-/// at similar distances do not make the robot turn back and forth every few seconds.
-const COMMITMENT_CELLS: i32 = 10;
-const COMMITMENT_FACTOR: f64 = 0.5;
-/// Margin added to half the robot's width for squeezing through narrow places, metres.
-const TIGHT_MARGIN_M: f64 = 0.05;
-/// The mission counts as explored once no robot has had a reachable candidate for this long
-/// (a doorway closed for a moment by a noisy return must not end it).
-const EXPLORED_AFTER_S: f64 = 10.0;
-/// With auctions, a candidate some robot reached is offered to nobody within this many map cells
-/// for this long: a frontier that did not resolve on arrival lies where the laser cannot see
-/// (behind furniture), and would draw robot after robot.
-const VISITED_CELLS: i32 = 3;
-const VISITED_BLACKLIST_S: f64 = 60.0;
-/// With auctions, once a robot has reached its target and scanned there, the frontier cells still
-/// left within this distance of it are taken out of the candidates for good
-/// ([`usar_map::FrontierTracker::retire_near`]): a 20 m laser that stood this near them could
-/// not see past them. Without it, frontier cells along walls that the 0.2 m map cells straddle
-/// (free on the near half, the wall's far side never seen) form long clusters that draw robot
-/// after robot to the same corridor for the whole mission; the paper's mapping is error-free
-/// (§3.1) and has no such frontiers.
-const UNOBSERVABLE_RADIUS_M: f64 = 2.0;
-/// A robot keeping its target occupies the candidate within this many map cells of it (with one
-/// candidate per room, that candidate's room), and a robot allocated a candidate this near its
-/// target (or its target's room) keeps its path.
-const KEPT_TARGET_CELLS: i32 = 5;
-/// A target that needed this many recoveries is given up (blacklisted) like a stuck one.
-const MAX_RECOVERIES: u32 = 3;
-/// When no candidate is reachable from where a robot stands (the map, refined since it drove
-/// in, no longer connects its pocket), it retraces this much of its own trajectory and plans
-/// again: it was there, so the way back is passable.
-const RETRACE_M: f64 = 3.0;
-/// Right of way: a robot stops (it may still turn) while a robot with a lower id is closer than
-/// this, centre to centre, within ±60° of its heading.
-const YIELD_DISTANCE_M: f64 = 1.2;
-const YIELD_HALF_ANGLE_RAD: f64 = std::f64::consts::FRAC_PI_3;
 
 /// Why a mission could not start.
 #[derive(Debug, thiserror::Error)]
@@ -107,7 +56,7 @@ struct Agent {
     target: Option<Cell>,
     /// Pose and time of the last progress check.
     progress_mark: (Pose2, f64),
-    /// Turning at the checks since the robot last moved [`STUCK_DISTANCE_M`], radians.
+    /// Turning at the checks since the robot last moved [`Tuning::stuck_distance_m`](crate::tuning::Tuning::stuck_distance_m), radians.
     turned_in_place_rad: f64,
     blacklist: Vec<(Cell, f64)>,
     trajectory: Vec<Point2>,
@@ -297,7 +246,7 @@ impl TeamMission {
         let start = scene.start_poses[0].position();
         // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
         let half_cell = geometry.resolution_m / 2.0;
-        let tight = config.robot.width_m / 2.0 + TIGHT_MARGIN_M + half_cell;
+        let tight = config.robot.width_m / 2.0 + config.tuning.tight_margin_m + half_cell;
         let base = BaseStation::new(
             &scene,
             geometry,
@@ -424,7 +373,7 @@ impl TeamMission {
         let now = self.sim.time_s();
         let settled = now - self.config.timing.scan_period_s;
         let g = *self.base.merged.geometry();
-        let radius = (UNOBSERVABLE_RADIUS_M / g.resolution_m).round() as i32;
+        let radius = (self.config.tuning.unobservable_radius_m / g.resolution_m).round() as i32;
         for &(p, _) in self.arrivals.iter().filter(|&&(_, t)| t <= settled) {
             self.base.frontiers.retire_near(g.world_to_cell(p), radius);
         }
@@ -517,9 +466,9 @@ impl TeamMission {
                     {
                         row[k] = None;
                     } else if let (Some(cost), Some(t)) = (row[k], agent.target)
-                        && t.chebyshev(c.cell) <= COMMITMENT_CELLS
+                        && t.chebyshev(c.cell) <= self.config.tuning.commitment_cells
                     {
-                        row[k] = Some(cost * COMMITMENT_FACTOR);
+                        row[k] = Some(cost * self.config.tuning.commitment_factor);
                     }
                 }
                 if row.iter().any(Option::is_some) {
@@ -564,6 +513,7 @@ impl TeamMission {
         agent.follower = PathFollower::default();
         if std::mem::take(&mut agent.may_retrace) {
             agent.follower = PathFollower::new(retrace(
+                &self.config.tuning,
                 &agent.trajectory,
                 self.sim.robot(agent.id).pose.position(),
             ));
@@ -633,7 +583,7 @@ impl TeamMission {
             .map(|c| {
                 self.visited
                     .iter()
-                    .any(|&(v, _)| v.chebyshev(c.cell) <= VISITED_CELLS)
+                    .any(|&(v, _)| v.chebyshev(c.cell) <= self.config.tuning.visited_cells)
             })
             .collect();
         // What is known of each candidate: room, perceived label, i(p).
@@ -773,7 +723,9 @@ impl TeamMission {
                 *row = pick(row, &keep);
             }
         }
-        let candidate_of = |t: Cell| nearest_candidate(&ungrouped, t).map(|(k, _)| group_of[k]);
+        let tuning = self.config.tuning;
+        let candidate_of =
+            |t: Cell| nearest_candidate(&tuning, &ungrouped, t).map(|(k, _)| group_of[k]);
         let mut bids = crate::bids::bids(
             self.config.exploration.strategy,
             &self.measures,
@@ -820,7 +772,8 @@ impl TeamMission {
                     // Allocated what it is heading for (the same spot, or its target's room):
                     // it keeps its path.
                     if agent.target.is_some_and(|t| {
-                        t.chebyshev(target) <= KEPT_TARGET_CELLS || candidate_of(t) == Some(c)
+                        t.chebyshev(target) <= self.config.tuning.kept_target_cells
+                            || candidate_of(t) == Some(c)
                     }) && !agent.follower.is_empty()
                     {
                         continue;
@@ -856,7 +809,9 @@ impl TeamMission {
                             agent.may_retrace = true;
                         }
                         None => {
-                            self.agents[i].blacklist.push((target, now + BLACKLIST_S));
+                            self.agents[i]
+                                .blacklist
+                                .push((target, now + self.config.tuning.blacklist_s));
                             self.idle(i);
                         }
                     }
@@ -979,10 +934,10 @@ impl TeamMission {
                         RecoveryStep::Escape(v) => v,
                         RecoveryStep::Ended => {
                             a.recoveries += 1;
-                            if a.recoveries >= MAX_RECOVERIES
+                            if a.recoveries >= self.config.tuning.max_recoveries
                                 && let Some(t) = a.target.take()
                             {
-                                a.blacklist.push((t, now + BLACKLIST_S));
+                                a.blacklist.push((t, now + self.config.tuning.blacklist_s));
                                 a.follower = PathFollower::default();
                             }
                             replan.push(i);
@@ -991,9 +946,9 @@ impl TeamMission {
                         RecoveryStep::Free => {
                             let mut cmd = a.follower.command(r.pose, &r.spec);
                             if cmd.linear_mps > 0.0
-                                && self.sim.robots()[..i]
-                                    .iter()
-                                    .any(|o| gives_way(r.pose, o.pose.position()))
+                                && self.sim.robots()[..i].iter().any(|o| {
+                                    gives_way(&self.config.tuning, r.pose, o.pose.position())
+                                })
                             {
                                 cmd.linear_mps = 0.0;
                             }
@@ -1038,13 +993,19 @@ impl TeamMission {
                     continue;
                 }
                 let done = a.follower.is_done(r.pose);
-                if a.target.is_some() && !done && now - a.progress_mark.1 >= STUCK_WINDOW_S {
+                if a.target.is_some()
+                    && !done
+                    && now - a.progress_mark.1 >= self.config.tuning.stuck_window_s
+                {
                     let (mark, _) = a.progress_mark;
-                    let (stuck, turned) = stuck_check(mark, r.pose, a.turned_in_place_rad);
+                    let (stuck, turned) =
+                        stuck_check(&self.config.tuning, mark, r.pose, a.turned_in_place_rad);
                     a.turned_in_place_rad = turned;
                     if stuck {
-                        a.blacklist
-                            .push((a.target.expect("has target"), now + BLACKLIST_S));
+                        a.blacklist.push((
+                            a.target.expect("has target"),
+                            now + self.config.tuning.blacklist_s,
+                        ));
                         a.follower = PathFollower::default();
                         a.target = None;
                         who.push(i);
@@ -1062,9 +1023,11 @@ impl TeamMission {
                 if done && let Some(reached) = a.target {
                     // A frontier that did not resolve on arrival (it lies behind something the
                     // laser cannot see past) is left alone for a while.
-                    a.blacklist.push((reached, now + REACHED_BLACKLIST_S));
+                    a.blacklist
+                        .push((reached, now + self.config.tuning.reached_blacklist_s));
                     if auctioned {
-                        self.visited.push((reached, now + VISITED_BLACKLIST_S));
+                        self.visited
+                            .push((reached, now + self.config.tuning.visited_blacklist_s));
                         self.arrivals.push((r.pose.position(), now));
                     }
                     a.target = None;
@@ -1085,7 +1048,7 @@ impl TeamMission {
                 .all(|a| a.target.is_none() && !a.escaping)
             {
                 let since = *idle_since.get_or_insert(now);
-                if now - since >= EXPLORED_AFTER_S {
+                if now - since >= self.config.tuning.explored_after_s {
                     finish = Finish::Explored;
                 }
             } else {
@@ -1166,17 +1129,17 @@ impl TeamMission {
     }
 }
 
-/// The progress check of a robot with a target, [`STUCK_WINDOW_S`] after its `mark`: whether it
+/// The progress check of a robot with a target, [`Tuning::stuck_window_s`](crate::tuning::Tuning::stuck_window_s) after its `mark`: whether it
 /// is stuck, and its turning in place since it last moved (`turned_before` until this check).
-/// Moving [`STUCK_DISTANCE_M`] is progress; so is turning [`STUCK_TURN_RAD`], up to
-/// [`MAX_TURN_IN_PLACE_RAD`] in all while the robot stays put.
-fn stuck_check(mark: Pose2, now: Pose2, turned_before: f64) -> (bool, f64) {
-    if now.position().distance(mark.position()) >= STUCK_DISTANCE_M {
+/// Moving [`Tuning::stuck_distance_m`](crate::tuning::Tuning::stuck_distance_m) is progress; so is turning [`Tuning::stuck_turn_rad`](crate::tuning::Tuning::stuck_turn_rad), up to
+/// [`Tuning::max_turn_in_place_rad`](crate::tuning::Tuning::max_turn_in_place_rad) in all while the robot stays put.
+fn stuck_check(tuning: &Tuning, mark: Pose2, now: Pose2, turned_before: f64) -> (bool, f64) {
+    if now.position().distance(mark.position()) >= tuning.stuck_distance_m {
         return (false, 0.0);
     }
     let turned = normalize_angle(now.theta - mark.theta).abs();
     let total = turned_before + turned;
-    if turned < STUCK_TURN_RAD || total > MAX_TURN_IN_PLACE_RAD {
+    if turned < tuning.stuck_turn_rad || total > tuning.max_turn_in_place_rad {
         (true, 0.0)
     } else {
         (false, total)
@@ -1188,13 +1151,13 @@ fn pick<T: Clone>(v: &[T], keep: &[usize]) -> Vec<T> {
     keep.iter().map(|&k| v[k].clone()).collect()
 }
 
-/// The candidate nearest a robot's target, within [`KEPT_TARGET_CELLS`]: (index, distance).
-fn nearest_candidate(cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
+/// The candidate nearest a robot's target, within [`Tuning::kept_target_cells`](crate::tuning::Tuning::kept_target_cells): (index, distance).
+fn nearest_candidate(tuning: &Tuning, cands: &[Candidate], target: Cell) -> Option<(usize, i32)> {
     cands
         .iter()
         .enumerate()
         .map(|(k, c)| (k, c.cell.chebyshev(target)))
-        .filter(|&(_, d)| d <= KEPT_TARGET_CELLS)
+        .filter(|&(_, d)| d <= tuning.kept_target_cells)
         .min_by_key(|&(k, d)| (d, k))
 }
 
@@ -1209,9 +1172,9 @@ fn nearest_passable(grid: &NavGrid, c: Cell, reach: i32) -> Option<Cell> {
     })
 }
 
-/// The way back along a trajectory: its points from the latest backwards, until [`RETRACE_M`]
+/// The way back along a trajectory: its points from the latest backwards, until [`Tuning::retrace_m`](crate::tuning::Tuning::retrace_m)
 /// away from `here` along the way (empty when there is no way back).
-fn retrace(trajectory: &[Point2], here: Point2) -> Vec<Point2> {
+fn retrace(tuning: &Tuning, trajectory: &[Point2], here: Point2) -> Vec<Point2> {
     let mut out = Vec::new();
     let mut length = 0.0;
     let mut last = here;
@@ -1222,7 +1185,7 @@ fn retrace(trajectory: &[Point2], here: Point2) -> Vec<Point2> {
         length += last.distance(p);
         out.push(p);
         last = p;
-        if length >= RETRACE_M {
+        if length >= tuning.retrace_m {
             break;
         }
     }
@@ -1233,11 +1196,11 @@ fn retrace(trajectory: &[Point2], here: Point2) -> Vec<Point2> {
 }
 
 /// Whether a robot at `pose` must give way to a robot at `other` (close, ahead of it).
-fn gives_way(pose: usar_world::Pose2, other: Point2) -> bool {
+fn gives_way(tuning: &Tuning, pose: usar_world::Pose2, other: Point2) -> bool {
     let here = pose.position();
-    here.distance(other) < YIELD_DISTANCE_M
+    here.distance(other) < tuning.yield_distance_m
         && usar_world::normalize_angle(here.bearing_to(other) - pose.theta).abs()
-            < YIELD_HALF_ANGLE_RAD
+            < tuning.yield_half_angle_rad
 }
 
 /// Marks the cells within `radius_m` of `p` impassable, remembering the ones it changed.
@@ -1302,21 +1265,27 @@ mod tests {
     fn turning_round_in_place_is_progress_and_spinning_on_the_spot_is_not() {
         let at = |x: f64, theta: f64| Pose2::new(x, 0.0, theta);
         // Standing still: stuck.
-        assert_eq!(stuck_check(at(0.0, 0.0), at(0.05, 0.1), 0.0), (true, 0.0));
+        assert_eq!(
+            stuck_check(&Tuning::default(), at(0.0, 0.0), at(0.05, 0.1), 0.0),
+            (true, 0.0)
+        );
         // Driving: progress, and the turning count starts again.
-        assert_eq!(stuck_check(at(0.0, 0.0), at(0.5, 0.0), 3.0), (false, 0.0));
+        assert_eq!(
+            stuck_check(&Tuning::default(), at(0.0, 0.0), at(0.5, 0.0), 3.0),
+            (false, 0.0)
+        );
         // Turning round at 0.36 rad/s, 1.44 rad a window: progress for the ~9 s it takes.
-        let (stuck, turned) = stuck_check(at(0.0, 0.0), at(0.0, 1.44), 0.0);
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 0.0), at(0.0, 1.44), 0.0);
         assert!(!stuck);
-        let (stuck, turned) = stuck_check(at(0.0, 1.44), at(0.0, 2.88), turned);
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 1.44), at(0.0, 2.88), turned);
         assert!(!stuck && (turned - 2.88).abs() < 1e-9);
         // Spinning on: stuck once the turning passes a full turn.
-        let (stuck, turned) = stuck_check(at(0.0, 2.88), at(0.0, 4.32), turned);
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 2.88), at(0.0, 4.32), turned);
         assert!(!stuck);
-        let (stuck, turned) = stuck_check(at(0.0, 4.32), at(0.0, 5.76), turned);
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 4.32), at(0.0, 5.76), turned);
         assert!(!stuck && turned < std::f64::consts::TAU);
         assert_eq!(
-            stuck_check(at(0.0, 5.76), at(0.0, 7.2), turned),
+            stuck_check(&Tuning::default(), at(0.0, 5.76), at(0.0, 7.2), turned),
             (true, 0.0)
         );
     }

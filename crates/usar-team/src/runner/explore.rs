@@ -44,6 +44,7 @@ impl ExploreRunner {
             duration_s: config.float("minutes").unwrap_or(20.0) * 60.0,
             stop_at_coverage: (stop < 1.0).then_some(stop),
             stall_after_s: (stall > 0.0).then_some(stall * 60.0),
+            tuning: super::tuning_of(config)?,
             ..TeamConfig::default()
         })
     }
@@ -156,6 +157,7 @@ impl Runner for ExploreRunner {
                 "stop when coverage grew < 0.2 % in this long (0: never)",
             ),
         ]);
+        factors.extend(super::tuning_factors());
         factors
     }
 

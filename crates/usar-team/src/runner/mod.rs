@@ -7,6 +7,41 @@ mod team;
 pub use self::explore::ExploreRunner;
 pub use self::team::TeamRunner;
 
+use crate::tuning::Tuning;
+use usar_campaign::{Config, FactorKind, FactorSpec, Level};
+
+/// The fields of [`Tuning`] as factors (by their field names, defaults as they are).
+pub(crate) fn tuning_factors() -> Vec<FactorSpec> {
+    Tuning::fields()
+        .into_iter()
+        .map(|(name, default)| {
+            let help = "tuning of driving, recovery or allocation (usar_team::tuning::Tuning)";
+            match default.as_i64() {
+                Some(n) => FactorSpec::new(
+                    &name,
+                    FactorKind::Int {
+                        min: 0,
+                        max: 1_000_000,
+                    },
+                    Level::Int(n),
+                    help,
+                ),
+                None => FactorSpec::new(
+                    &name,
+                    FactorKind::Float { min: 0.0, max: 1e6 },
+                    Level::Float(default.as_f64().unwrap_or(0.0)),
+                    help,
+                ),
+            }
+        })
+        .collect()
+}
+
+/// The tuning a configuration sets.
+pub(crate) fn tuning_of(config: &Config) -> Result<Tuning, String> {
+    Tuning::default().with(|name| config.float(name))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -179,6 +179,7 @@ impl Runner for TeamRunner {
                 "probability that an exchange is lost",
             ),
         ]);
+        factors.extend(super::tuning_factors());
         factors
     }
 
@@ -212,7 +213,8 @@ impl Runner for TeamRunner {
     }
 
     fn check(&self, config: &Config) -> Result<(), String> {
-        let team = Self::setup(config).config()?;
+        let mut team = Self::setup(config).config()?;
+        team.tuning = super::tuning_of(config)?;
         let scene = self.scene(config, &team)?;
         enough_start_poses(&scene, team.robots)?;
         if scene.rooms.is_empty() {
@@ -226,7 +228,8 @@ impl Runner for TeamRunner {
 
     fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
         let setup = Self::setup(config);
-        let team = setup.config()?;
+        let mut team = setup.config()?;
+        team.tuning = super::tuning_of(config)?;
         let scene = self.scene(config, &team)?;
         let outcome = TeamMission::new(scene, team, seed)
             .map_err(|e| e.to_string())?
