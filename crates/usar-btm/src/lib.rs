@@ -18,3 +18,8 @@ pub mod wire;
 pub use self::build::{BuildConfig, BuildError, BuildOutcome, StopReason, build_btm};
 pub use self::model::{Btm, Link, Node};
 pub use self::store::{BtmError, BtmStore};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -24,3 +24,8 @@ pub use self::runner::{
     FactorKind, FactorSpec, MetricSpec, NoopRunner, RunOutput, Runner, SeriesPoint,
 };
 pub use self::store::{Store, merge};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -49,3 +49,8 @@ pub use self::server::{RunningConsole, serve_blocking, start};
 pub use self::snapshot::{
     BtmLinkView, BtmNodeView, Frame, HandOffKind, HandOffView, MapView, RobotView, VictimView,
 };
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

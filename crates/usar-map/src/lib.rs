@@ -12,3 +12,8 @@ pub mod segmentation;
 pub use self::frontier::{FrontierCluster, FrontierTracker};
 pub use self::navigable::NavigableMap;
 pub use self::occupancy::{CellClass, OccupancyGrid, OccupancyParams};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -12,3 +12,8 @@ pub mod taxi;
 pub use self::flat_q::{FlatQ, SparseFlatQ};
 pub use self::maxq::{Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind};
 pub use self::schedule::{ParamError, Schedule};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

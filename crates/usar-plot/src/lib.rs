@@ -177,3 +177,8 @@ pub(crate) fn render(path: &Path, plot: &impl Drawable) -> Result<(), PlotError>
     }
     Ok(())
 }
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -46,3 +46,8 @@ pub mod travel;
 pub use self::domain::{DomainConfig, RescueDomain, RescueScene, RunStats, VictimMark};
 pub use self::hierarchy::RescueHierarchy;
 pub use self::state::{RescueState, VictimStatus};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -45,3 +45,8 @@ pub enum SimError {
     #[error("{path}: {message}")]
     RobotFile { path: String, message: String },
 }
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -37,3 +37,8 @@ pub mod tuning;
 pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
 pub use self::mission::{MissionError, MissionHook, TeamMission};
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -41,3 +41,8 @@ pub use self::scene::{
     scene_from_json, scene_to_json, write_scene,
 };
 pub use self::toml_error::toml_error_line;
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
