@@ -187,11 +187,7 @@ pub fn to_graphml(btm: &Btm) -> String {
 /// (any other extension but `.graphml`, which is written only), and checks it
 /// ([`crate::validate`]). Errors are one line naming the file.
 pub fn read(path: &std::path::Path) -> Result<Btm, BtmError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
+    let ext = usar_world::io::extension(path);
     match ext.as_str() {
         "graphml" => {
             return Err(BtmError::Format {
@@ -222,11 +218,7 @@ pub fn read(path: &std::path::Path) -> Result<Btm, BtmError> {
 /// Writes a BTM as `.json`, `.graphml`, binary `.btmb` or a new BTM database (`.sqlite`),
 /// atomically: the file appears complete or not at all.
 pub fn write(btm: &Btm, path: &std::path::Path) -> Result<(), BtmError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
+    let ext = usar_world::io::extension(path);
     let text = match ext.as_str() {
         "json" => to_json(btm),
         "graphml" => to_graphml(btm),

@@ -37,18 +37,19 @@ pub fn load_spec(spec: &SceneSpec) -> CmdResult<Scene> {
 /// Refuses a scene output path that [`load`] could not read back: scene files are `.json`
 /// (the extension chooses the format when a file is read).
 pub fn check_scene_output(path: &Path, option: &str) -> CmdResult {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if ext.as_deref() == Some("json") {
+    let ext = usar_world::io::extension(path);
+    if ext == "json" {
         return Ok(());
     }
     Err(bad_input(anyhow::anyhow!(
         "{option} {}: a scene file must end in .json, found {}; the extension chooses the \
          format when the file is read back",
         path.display(),
-        ext.map_or_else(|| "no extension".to_string(), |e| format!(".{e}"))
+        if ext.is_empty() {
+            "no extension".to_string()
+        } else {
+            format!(".{ext}")
+        }
     )))
 }
 

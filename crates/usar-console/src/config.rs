@@ -193,14 +193,7 @@ impl MissionConfig {
             ));
         }
         if let Err(e) = usar_rescue::training::check_trials(self.train_trials) {
-            let message = e.to_string();
-            return Err(field(
-                "train_trials",
-                message
-                    .strip_prefix("trials: ")
-                    .unwrap_or(&message)
-                    .to_string(),
-            ));
+            return Err(field("train_trials", e.problem()));
         }
         if !(1..=100).contains(&self.stuck_after_slips) {
             return Err(field(

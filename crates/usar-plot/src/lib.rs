@@ -49,14 +49,9 @@ enum Format {
 }
 
 fn format_of(path: &Path) -> Result<Format, PlotError> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("png") => Ok(Format::Png),
-        Some("svg") => Ok(Format::Svg),
+    match usar_world::io::extension(path).as_str() {
+        "png" => Ok(Format::Png),
+        "svg" => Ok(Format::Svg),
         _ => Err(PlotError::Format {
             path: path.display().to_string(),
         }),

@@ -27,6 +27,9 @@ pub enum PolicyError {
         path: PathBuf,
         source: std::io::Error,
     },
+    /// The file could not be read, or is past the input limits ([`usar_world::limits`]).
+    #[error(transparent)]
+    File(#[from] usar_world::WorldError),
     /// The file is not valid policy JSON.
     #[error("{path}: not a policy file: {message}")]
     Parse { path: PathBuf, message: String },
@@ -80,19 +83,7 @@ impl PolicyFile {
 
     /// Reads and checks a policy file.
     pub fn load(path: &Path) -> Result<Self, PolicyError> {
-        let text = usar_world::limits::read_text(path).map_err(|e| match e {
-            usar_world::WorldError::Io { io, .. } => PolicyError::Io {
-                path: path.into(),
-                source: io,
-            },
-            other => PolicyError::Parse {
-                path: path.into(),
-                message: other
-                    .to_string()
-                    .trim_start_matches(&format!("{}: ", path.display()))
-                    .to_string(),
-            },
-        })?;
+        let text = usar_world::limits::read_text(path)?;
         let file: PolicyFile = serde_json::from_str(&text).map_err(|e| PolicyError::Parse {
             path: path.into(),
             message: e.to_string(),

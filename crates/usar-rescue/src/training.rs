@@ -54,17 +54,22 @@ impl Default for TrainConfig {
     }
 }
 
-/// The default most trials one training run takes (paper 000 trains 1 800); the limit in
-/// force is [`usar_world::limits::limits`]`().max_trials` (`usar --max-trials`). A count is
-/// checked against it before anything is allocated, so a mistyped `4000000000` is refused at
-/// once instead of running for years or aborting on its curve's allocation.
-pub const MAX_TRIALS: u32 = usar_world::limits::Limits::DEFAULT.max_trials as u32;
-
 /// A training configuration that cannot run.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TrainConfigError {
-    #[error("trials: found {found}, expected 1 to {max} (raise the limit with --max-trials)")]
+    #[error("trials: {}", self.problem())]
     Trials { found: u32, max: u64 },
+}
+
+impl TrainConfigError {
+    /// What is wrong, without the field's name (for callers that name the field their way).
+    pub fn problem(&self) -> String {
+        match self {
+            Self::Trials { found, max } => {
+                format!("found {found}, expected 1 to {max} (raise the limit with --max-trials)")
+            }
+        }
+    }
 }
 
 impl TrainConfig {
@@ -74,7 +79,10 @@ impl TrainConfig {
     }
 }
 
-/// Checks a trial count against 1 ..= the trial limit in force.
+/// Checks a trial count against 1 ..= the trial limit in force: paper 000 trains 1 800; the
+/// limit ([`usar_world::limits`], `usar --max-trials`, 1 000 000 by default) is checked before
+/// anything is allocated, so a mistyped `4000000000` is refused at once instead of running for
+/// years.
 pub fn check_trials(trials: u32) -> Result<(), TrainConfigError> {
     let max = usar_world::limits::limits().max_trials;
     if trials >= 1 && u64::from(trials) <= max {

@@ -38,9 +38,9 @@ pub use self::traversability::{compute_blocked, footprint_cells};
 /// Errors reading simulator inputs.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
-    /// A file could not be read.
-    #[error("{path}: {io}")]
-    Io { path: String, io: std::io::Error },
+    /// A file could not be read, or is past the input limits ([`usar_world::limits`]).
+    #[error(transparent)]
+    File(#[from] usar_world::WorldError),
     /// A robot file is malformed or holds an implausible value.
     #[error("{path}: {message}")]
     RobotFile { path: String, message: String },

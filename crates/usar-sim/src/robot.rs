@@ -127,13 +127,7 @@ impl RobotSpec {
 
     /// Reads a robot file (TOML). It names a `preset` to start from and overrides fields of it.
     pub fn from_toml_file(path: &Path) -> Result<Self, crate::SimError> {
-        let text = usar_world::limits::read_text(path).map_err(|e| crate::SimError::RobotFile {
-            path: path.display().to_string(),
-            message: e
-                .to_string()
-                .trim_start_matches(&format!("{}: ", path.display()))
-                .to_string(),
-        })?;
+        let text = usar_world::limits::read_text(path)?;
         Self::from_toml(&text, path)
     }
 

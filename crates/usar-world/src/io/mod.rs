@@ -7,3 +7,11 @@ pub mod movingai;
 pub mod ros;
 pub mod rotation;
 pub mod source;
+
+/// A file's extension in lower case, or "" when it has none: formats are chosen by it.
+pub fn extension(path: &std::path::Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default()
+}

@@ -73,11 +73,7 @@ pub fn load_scene(spec: &str, seed: u64, image: &BareImage) -> Result<Scene> {
     {
         return Ok(generate(kind, seed));
     }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
+    let ext = super::extension(path);
     match ext.as_str() {
         "json" => crate::scene::read_scene(path),
         "yaml" | "yml" => super::ros::read_ros_map(path),
