@@ -39,18 +39,46 @@ proptest! {
                 prop_assert!(!g.contains(cell) || !scene.is_obstacle(cell), "beam {i} crosses occupied {cell:?} at {d} < {r}");
             }
             if r.is_finite() {
-                // Just past the range the beam is in an occupied cell. "Just past": the range
-                // is an f32 (off by up to 1.2e-7 m at 3 m), and a beam that clips a cell's
-                // corner crosses it in less than 1e-6 m (this failed at 1e-6 alone, before and
-                // after the walk went fixed-point, on x = 2.3225…, y = 2.5417…, θ = 1.2871…).
-                let occupied_past = |d: f64| {
-                    let p = Point2::new(x, y).offset(a, f64::from(r) + d);
-                    scene.is_obstacle(g.world_to_cell(p))
-                };
-                prop_assert!([3e-7, 1e-6, 1e-7, 3e-8].into_iter().any(occupied_past), "beam {i} ends in free space at {r}");
+                // The range ends on an occupied cell: the beam's interval inside some occupied
+                // cell near the end point reaches the range, within the f32 rounding of the
+                // range (an ulp is 1.2e-7 m at 1.5 m, while a beam clipping a cell's corner may
+                // cross it in 3e-8 m: walls = [(6, 9)], x = 1.9624…, y = 0.8042…, θ = 3.1936…).
+                let tol = 2.0 * f64::from(f32::EPSILON) * f64::from(r) + 1e-12;
+                let end = g.world_to_cell(Point2::new(x, y).offset(a, f64::from(r)));
+                let hits = (-1..=1).flat_map(|dc| (-1..=1).map(move |dr| Cell::new(end.col + dc, end.row + dr)))
+                    .filter(|&c| g.contains(c) && scene.is_obstacle(c))
+                    .filter_map(|c| beam_interval_in_cell(&g, c, Point2::new(x, y), a))
+                    .any(|(t_in, t_out)| t_in <= f64::from(r) + tol && t_out >= f64::from(r) - tol);
+                prop_assert!(hits, "beam {i} ends in free space at {r}");
             }
         }
     }
+}
+
+/// Where the beam from `origin` at `angle` is inside `cell`: (entry, exit) distances, slab method.
+fn beam_interval_in_cell(
+    g: &GridGeometry,
+    cell: Cell,
+    origin: Point2,
+    angle: f64,
+) -> Option<(f64, f64)> {
+    let mid = g.cell_center(cell);
+    let half = g.resolution_m / 2.0;
+    let (s, c) = angle.sin_cos();
+    let (mut t_in, mut t_out) = (0.0f64, f64::INFINITY);
+    for (o, d, mid) in [(origin.x, c, mid.x), (origin.y, s, mid.y)] {
+        let (a, b) = (mid - half, mid + half);
+        if d.abs() < 1e-15 {
+            if o < a || o > b {
+                return None;
+            }
+            continue;
+        }
+        let (t0, t1) = ((a - o) / d, (b - o) / d);
+        t_in = t_in.max(t0.min(t1));
+        t_out = t_out.min(t0.max(t1));
+    }
+    (t_in <= t_out).then_some((t_in, t_out))
 }
 
 /// The horizontal cast as first written: blocking heights read cell by cell along `advance`.
