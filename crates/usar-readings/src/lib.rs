@@ -110,6 +110,35 @@ impl Attitude {
     }
 }
 
+/// One warm region seen by the thermal camera, as a controller gets it: what was measured, and
+/// an opaque number the host can later tell the evaluator about (which source caused it). The
+/// number carries nothing a controller could use: it counts readings in the order they were
+/// taken.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ThermalReading {
+    pub id: DetectionId,
+    /// Bearing relative to the heading, radians.
+    pub bearing_rad: f64,
+    pub range_m: f64,
+    pub temperature_c: f64,
+    /// h: the temperature lies in the human band.
+    pub human_signature: bool,
+    /// s: apparent size of the warm region, m².
+    pub size_m2: f64,
+}
+
+impl ThermalReading {
+    /// World position of the region seen from `pose`.
+    pub fn position(&self, pose: Pose2) -> usar_world::Point2 {
+        pose.position()
+            .offset(pose.theta + self.bearing_rad, self.range_m)
+    }
+}
+
+/// The number of one thermal reading (see [`ThermalReading::id`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct DetectionId(pub u64);
+
 /// The README's examples, compiled and run as doctests.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]

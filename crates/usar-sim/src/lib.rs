@@ -23,6 +23,7 @@
 //! ```
 
 mod cell_robot;
+pub mod host;
 mod robot;
 pub mod sensors;
 mod simulation;

@@ -4,7 +4,7 @@
 
 use crate::robot::RobotSpec;
 use crate::sensors::{
-    Attitude, DepthImage, HeatDetection, InfraredReading, LaserModel, LaserScan, Odometry,
+    Attitude, Body, DepthImage, HeatDetection, InfraredReading, LaserModel, LaserScan, Odometry,
     SensingWorld, TiltedScan,
 };
 use crate::traversability::{compute_blocked, footprint_cells};
@@ -44,6 +44,10 @@ pub struct SimConfig {
     pub dt_s: f64,
     /// Whether robots block each other (their footprints may not overlap).
     pub robots_collide: bool,
+    /// Whether robots show in each other's 2-D laser scans (their footprints, as rectangles
+    /// taller than the lasers are mounted).
+    #[serde(default)]
+    pub robots_in_lasers: bool,
 }
 
 impl Default for SimConfig {
@@ -51,6 +55,7 @@ impl Default for SimConfig {
         Self {
             dt_s: 0.1,
             robots_collide: true,
+            robots_in_lasers: false,
         }
     }
 }
@@ -308,9 +313,22 @@ impl Simulation {
     /// Takes a 2-D laser scan from robot `id` into `scan` (buffer reused).
     pub fn scan_laser(&mut self, id: RobotId, scan: &mut LaserScan) {
         let floor = self.floor_z(self.robots[id.0].pose.position());
+        let bodies: Vec<Body> = if self.config.robots_in_lasers {
+            self.robots
+                .iter()
+                .filter(|o| o.id != id)
+                .map(|o| Body {
+                    pose: o.pose,
+                    half_length_m: o.spec.length_m / 2.0,
+                    half_width_m: o.spec.width_m / 2.0,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let r = &mut self.robots[id.0];
         r.laser
-            .scan_into(&self.world, r.pose, floor, &mut r.rng, scan);
+            .scan_among(&self.world, &bodies, r.pose, floor, &mut r.rng, scan);
     }
 
     pub fn read_thermal(&mut self, id: RobotId) -> Vec<HeatDetection> {

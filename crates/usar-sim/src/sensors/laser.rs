@@ -5,7 +5,7 @@ use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 use usar_readings::LaserScan;
-use usar_world::Pose2;
+use usar_world::{Point2, Pose2};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -86,6 +86,20 @@ impl LaserModel {
         rng: &mut impl Rng,
         scan: &mut LaserScan,
     ) {
+        self.scan_among(world, &[], pose, floor_z_m, rng, scan);
+    }
+
+    /// [`LaserModel::scan_into`] among moving `bodies` (other robots): a beam ends at the
+    /// nearer of the scene and the first body it meets.
+    pub fn scan_among(
+        &self,
+        world: &SensingWorld,
+        bodies: &[Body],
+        pose: Pose2,
+        floor_z_m: f64,
+        rng: &mut impl Rng,
+        scan: &mut LaserScan,
+    ) {
         let (s, c) = pose.theta.sin_cos();
         let z = (floor_z_m + self.spec.mount_height_m) as f32;
         let origin = pose.position();
@@ -98,7 +112,12 @@ impl LaserModel {
         scan.ranges_m.extend(self.beam_dirs.iter().map(|&(bc, bs)| {
             // Rotate the beam direction by the heading.
             let (dc, ds) = (c * bc - s * bs, s * bc + c * bs);
-            match world.cast_horizontal(origin, dc, ds, z, max) {
+            let static_hit = world.cast_horizontal(origin, dc, ds, z, max);
+            let hit = bodies
+                .iter()
+                .filter_map(|b| b.ray_hit(origin, dc, ds, max))
+                .fold(static_hit, |a, d| Some(a.map_or(d, |a: f64| a.min(d))));
+            match hit {
                 Some(d) => (d + gaussian(rng, self.spec.range_noise_sd_m)).clamp(0.0, max) as f32,
                 None => f32::INFINITY,
             }
@@ -116,5 +135,68 @@ impl LaserModel {
         let mut scan = LaserScan::default();
         self.scan_into(world, pose, floor_z_m, rng, &mut scan);
         scan
+    }
+}
+
+/// A rectangle standing on the floor that lasers see: another robot's footprint, taller than
+/// any horizontal laser is mounted (robots have no height in their spec).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body {
+    pub pose: Pose2,
+    pub half_length_m: f64,
+    pub half_width_m: f64,
+}
+
+impl Body {
+    /// Distance along the unit direction (dc, ds) from `origin` to where the ray enters the
+    /// rectangle, if within `max_m` (slab method in the body's frame; a ray starting inside
+    /// meets nothing).
+    pub fn ray_hit(&self, origin: Point2, dc: f64, ds: f64, max_m: f64) -> Option<f64> {
+        let reach = self.half_length_m.hypot(self.half_width_m);
+        let to = Point2::new(self.pose.x - origin.x, self.pose.y - origin.y);
+        let along = to.x * dc + to.y * ds;
+        if along + reach < 0.0 || along - reach > max_m {
+            return None;
+        }
+        let (s, c) = self.pose.theta.sin_cos();
+        // Origin and direction in the body frame.
+        let (ox, oy) = (-(to.x * c + to.y * s), -(-to.x * s + to.y * c));
+        let (ux, uy) = (dc * c + ds * s, -dc * s + ds * c);
+        let (mut t_in, mut t_out) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (o, u, half) in [(ox, ux, self.half_length_m), (oy, uy, self.half_width_m)] {
+            if u.abs() < 1e-12 {
+                if o.abs() > half {
+                    return None;
+                }
+                continue;
+            }
+            let (t0, t1) = ((-half - o) / u, (half - o) / u);
+            t_in = t_in.max(t0.min(t1));
+            t_out = t_out.min(t0.max(t1));
+        }
+        (t_in <= t_out && t_in > 0.0 && t_in <= max_m).then_some(t_in)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ray_enters_a_body_at_its_near_face_and_misses_beside_it() {
+        let body = Body {
+            pose: Pose2::new(3.0, 0.0, std::f64::consts::FRAC_PI_2),
+            half_length_m: 0.3,
+            half_width_m: 0.2,
+        };
+        let o = Point2::new(0.0, 0.0);
+        // Turned a quarter: its width lies along x, so the near face is at x = 2.8.
+        assert!((body.ray_hit(o, 1.0, 0.0, 10.0).unwrap() - 2.8).abs() < 1e-12);
+        assert_eq!(body.ray_hit(o, -1.0, 0.0, 10.0), None);
+        assert_eq!(body.ray_hit(o, 1.0, 0.0, 2.5), None);
+        let up = (0.35f64).atan2(3.0);
+        assert_eq!(body.ray_hit(o, up.cos(), up.sin(), 10.0), None);
+        // From inside it sees nothing of it.
+        assert_eq!(body.ray_hit(Point2::new(3.0, 0.0), 1.0, 0.0, 10.0), None);
     }
 }

@@ -12,13 +12,15 @@ mod tilted_laser;
 
 pub use self::depth::{DepthSpec, read_depth};
 pub use self::infrared::{InfraredSpec, read_infrared};
-pub use self::laser::{LaserModel, LaserSpec};
+pub use self::laser::{Body, LaserModel, LaserSpec};
 pub use self::proprioception::{NoiseSpec, Odometry, read_attitude};
 pub use self::sensing_world::SensingWorld;
 pub use self::thermal::{HeatDetection, HeatTruth, ThermalSpec, read_thermal};
 pub use self::tilted_laser::{TiltedLaserSpec, read_tilted_laser};
 /// The readings themselves live in `usar-readings`, below the simulator and the maps.
-pub use usar_readings::{Attitude, DepthImage, InfraredReading, LaserScan, TiltedScan};
+pub use usar_readings::{
+    Attitude, DepthImage, DetectionId, InfraredReading, LaserScan, ThermalReading, TiltedScan,
+};
 
 use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};

@@ -154,6 +154,7 @@ impl<'a> Explorer<'a> {
             SimConfig {
                 dt_s: cfg.dt_s,
                 robots_collide: false,
+                robots_in_lasers: false,
             },
             seed,
         );

@@ -1,0 +1,203 @@
+//! What a controller sees of its robots and how it drives them: the only door between a
+//! controller and the world. Robot `k` is the fleet's k-th robot.
+
+use super::Oracles;
+use super::radio::{Endpoint, Message, Radio};
+use crate::robot::RobotSpec;
+use crate::sensors::{
+    Attitude, DepthImage, DetectionId, HeatTruth, InfraredReading, LaserScan, Odometry,
+    ThermalReading, TiltedScan,
+};
+use crate::simulation::{RobotId, Simulation, Velocity};
+use usar_world::{Point2, Pose2};
+
+/// One controller's view of its fleet for one step. It gives readings, commands and the radio,
+/// and no path to the scene or the simulation — neither of these compiles:
+///
+/// ```compile_fail
+/// fn peek(io: &usar_sim::host::FleetIo<'_>) -> usize {
+///     io.sim.scene().victims.len()
+/// }
+/// ```
+///
+/// ```compile_fail
+/// fn truth(io: &usar_sim::host::FleetIo<'_>) -> usar_world::Pose2 {
+///     io.sim.robot(io.id(0)).pose
+/// }
+/// ```
+pub struct FleetIo<'a> {
+    sim: &'a mut Simulation,
+    robots: &'a [RobotId],
+    commands: &'a mut [Velocity],
+    detections: &'a mut Vec<HeatTruth>,
+    radio: &'a mut Radio,
+    oracles: Oracles,
+}
+
+impl<'a> FleetIo<'a> {
+    pub(super) fn new(
+        sim: &'a mut Simulation,
+        robots: &'a [RobotId],
+        commands: &'a mut [Velocity],
+        detections: &'a mut Vec<HeatTruth>,
+        radio: &'a mut Radio,
+        oracles: Oracles,
+    ) -> Self {
+        Self {
+            sim,
+            robots,
+            commands,
+            detections,
+            radio,
+            oracles,
+        }
+    }
+
+    /// How many robots the fleet has.
+    pub fn len(&self) -> usize {
+        self.robots.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.robots.is_empty()
+    }
+
+    /// The robot's id in the host (its name on the radio).
+    pub fn id(&self, k: usize) -> RobotId {
+        self.robots[k]
+    }
+
+    /// The mission clock, seconds.
+    pub fn time_s(&self) -> f64 {
+        self.sim.time_s()
+    }
+
+    /// The length of a step, seconds.
+    pub fn dt_s(&self) -> f64 {
+        self.sim.config().dt_s
+    }
+
+    /// The robot's model: size, abilities, speeds, sensor mounts.
+    pub fn spec(&self, k: usize) -> &RobotSpec {
+        &self.sim.robot(self.robots[k]).spec
+    }
+
+    /// Whether the robot still answers (a failed robot neither moves nor senses).
+    pub fn alive(&self, k: usize) -> bool {
+        !self.sim.robot(self.robots[k]).failed
+    }
+
+    /// Dead reckoning from the wheels or tracks.
+    pub fn odometry(&self, k: usize) -> Odometry {
+        self.sim.robot(self.robots[k]).odometry.clone()
+    }
+
+    /// Whether the robot's last motion was stopped by something (its bumper).
+    pub fn contact(&self, k: usize) -> bool {
+        self.sim.robot(self.robots[k]).in_contact()
+    }
+
+    /// The velocity the robot's last step achieved, as its encoders measured it.
+    pub fn achieved(&self, k: usize) -> Velocity {
+        self.sim.robot(self.robots[k]).last_motion()
+    }
+
+    /// The localization oracle ([`Oracles::localization`]): the robot's true pose, or `None`
+    /// when the oracle is off.
+    pub fn true_pose(&self, k: usize) -> Option<Pose2> {
+        self.oracles
+            .localization
+            .then(|| self.sim.robot(self.robots[k]).pose)
+    }
+
+    /// The pose readings are stamped with: the true pose under the localization oracle,
+    /// the odometry estimate otherwise.
+    fn stamp(&self, k: usize) -> Pose2 {
+        let r = self.sim.robot(self.robots[k]);
+        if self.oracles.localization {
+            r.pose
+        } else {
+            r.odometry.estimate
+        }
+    }
+
+    /// A 2-D laser scan into `scan` (its buffer reused), stamped (see [`FleetIo::true_pose`]).
+    pub fn laser(&mut self, k: usize, scan: &mut LaserScan) {
+        self.sim.scan_laser(self.robots[k], scan);
+        scan.pose = self.stamp(k);
+    }
+
+    /// The laser tilted down at the floor ahead, stamped.
+    pub fn tilted_laser(&mut self, k: usize) -> TiltedScan {
+        let mut scan = self.sim.read_tilted_laser(self.robots[k]);
+        scan.pose = self.stamp(k);
+        scan
+    }
+
+    /// The front depth array, stamped.
+    pub fn depth(&mut self, k: usize) -> DepthImage {
+        let mut image = self.sim.read_depth(self.robots[k]);
+        image.pose = self.stamp(k);
+        image
+    }
+
+    pub fn infrared(&mut self, k: usize) -> InfraredReading {
+        self.sim.read_infrared(self.robots[k])
+    }
+
+    pub fn attitude(&mut self, k: usize) -> Attitude {
+        self.sim.read_attitude(self.robots[k])
+    }
+
+    /// The thermal camera's warm regions. Which source caused each is kept by the host for
+    /// the evaluator, under the reading's opaque number.
+    pub fn thermal(&mut self, k: usize) -> Vec<ThermalReading> {
+        self.sim
+            .read_thermal(self.robots[k])
+            .into_iter()
+            .map(|d| {
+                let id = DetectionId(self.detections.len() as u64);
+                self.detections.push(d.truth);
+                ThermalReading {
+                    id,
+                    bearing_rad: d.bearing_rad,
+                    range_m: d.range_m,
+                    temperature_c: d.temperature_c,
+                    human_signature: d.human_signature,
+                    size_m2: d.size_m2,
+                }
+            })
+            .collect()
+    }
+
+    /// Sets the robot's velocity for the coming step.
+    pub fn command(&mut self, k: usize, v: Velocity) {
+        self.commands[self.robots[k].0] = v;
+    }
+
+    fn place(&self, end: Endpoint) -> Option<Point2> {
+        match end {
+            Endpoint::Robot(id) => Some(self.sim.robot(id).pose.position()),
+            Endpoint::Base => self.radio.spec().base,
+        }
+    }
+
+    /// Sends `payload` on `topic` from `from` (one of the fleet's robots, or the base station
+    /// when the controller runs it) to `to`; it arrives at the next step, if the radio carries it.
+    pub fn send(&mut self, from: Endpoint, to: Endpoint, topic: &str, payload: Vec<u8>) {
+        let (from_at, to_at) = (self.place(from), self.place(to));
+        let message = Message {
+            from,
+            to,
+            topic: topic.to_string(),
+            payload,
+            sent_s: self.sim.time_s(),
+        };
+        self.radio.send(message, from_at, to_at);
+    }
+
+    /// The messages on `topic` that have arrived for `to`, oldest first.
+    pub fn receive(&mut self, to: Endpoint, topic: &str) -> Vec<Message> {
+        self.radio.receive(to, topic)
+    }
+}
