@@ -374,7 +374,7 @@ impl ConsoleHook {
             .collect();
         let base = mission.base_station();
         self.explored_m2 = base.merged.known_area_m2();
-        self.coverage = base.coverage.coverage();
+        self.coverage = mission.coverage();
         if self
             .explored
             .last()

@@ -1,12 +1,12 @@
 //! The base station (paper 002 §4.1): merges the robots' occupancy grids every few seconds and
-//! keeps, on the merged map, the frontier, the navigable space for the team's robot size and
-//! the coverage count, all updated from one log of class changes.
+//! keeps, on the merged map, the frontier and the navigable space for the team's robot size,
+//! both updated from one log of class changes (which an evaluator may follow too, e.g. for
+//! coverage).
 
-use crate::coverage::CoverageCounter;
 use usar_map::occupancy::MergeSums;
 use usar_map::planning::NavGrid;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
-use usar_world::{Cell, GridGeometry, Scene};
+use usar_world::{Cell, GridGeometry};
 
 pub struct BaseStation {
     pub merged: OccupancyGrid,
@@ -16,7 +16,6 @@ pub struct BaseStation {
     /// Navigable space for squeezing through (half the robot's width plus a margin): used when
     /// nothing is reachable with the full radius, e.g. a doorway narrowed by sensor noise.
     pub navigable_tight: NavigableMap,
-    pub coverage: CoverageCounter,
     /// The planners' view of `navigable` and `navigable_tight` (passable = navigable), kept in
     /// step at every merge from the cells whose navigability may have changed.
     pub nav_grids: [NavGrid; 2],
@@ -36,13 +35,11 @@ pub struct BaseStation {
 impl BaseStation {
     /// A base station whose map has `geometry` (the robots' maps must share it).
     pub fn new(
-        scene: &Scene,
         geometry: GridGeometry,
         params: OccupancyParams,
         radius_m: f64,
         tight_radius_m: f64,
         bid_grid_factor: usize,
-        start: usar_world::Point2,
     ) -> Self {
         let merged = OccupancyGrid::new(geometry, params);
         let k = bid_grid_factor.max(1) as u32;
@@ -50,7 +47,6 @@ impl BaseStation {
             frontiers: FrontierTracker::new(&merged),
             navigable: NavigableMap::new(&merged, radius_m),
             navigable_tight: NavigableMap::new(&merged, tight_radius_m),
-            coverage: CoverageCounter::new(scene, start, &geometry),
             // Nothing is known yet, so nothing is navigable.
             nav_grids: [
                 NavGrid::all_blocked(geometry),
@@ -112,7 +108,6 @@ impl BaseStation {
             });
             self.bid_grid.set_passable(c, passable);
         }
-        self.coverage.update_from(&self.merged, &self.changed);
     }
 
     /// The cells whose class changed at the last merge.

@@ -182,6 +182,39 @@ pub struct TeamConfig {
     pub rescan_turn_rad: f64,
     /// Thresholds of driving, recovery and allocation the papers do not give.
     pub tuning: crate::tuning::Tuning,
+    /// Where the robots believe they are when they map and drive.
+    #[serde(default)]
+    pub localization: Localization,
+}
+
+/// The pose a team's robots map and drive at.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Localization {
+    /// The localization oracle: the true pose. Paper 002 does not say how its robots
+    /// localize; its maps are merged as if poses were exact.
+    #[default]
+    True,
+    /// The robot's own estimate: odometry corrected by scan matching.
+    Estimated,
+}
+
+impl Localization {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::True => "true",
+            Self::Estimated => "estimated",
+        }
+    }
+
+    /// A localization by name (`true`, `estimated`).
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "true" => Some(Self::True),
+            "estimated" => Some(Self::Estimated),
+            _ => None,
+        }
+    }
 }
 
 impl Default for TeamConfig {
@@ -204,6 +237,7 @@ impl Default for TeamConfig {
             rescan_distance_m: 0.0,
             rescan_turn_rad: 0.0,
             tuning: crate::tuning::Tuning::default(),
+            localization: Localization::True,
         }
     }
 }

@@ -34,8 +34,10 @@ pub mod team_size;
 pub mod travel_time;
 pub mod tuning;
 
-pub use self::config::{Exploration, Radio, RobotFailure, Strategy, TeamConfig, Timing};
-pub use self::mission::{MissionError, MissionHook, TeamMission};
+pub use self::config::{
+    Exploration, Localization, Radio, RobotFailure, Strategy, TeamConfig, Timing,
+};
+pub use self::mission::{MissionError, MissionHook, TeamController, TeamMission, VictimReport};
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 
 /// The README's examples, compiled and run as doctests.

@@ -196,6 +196,13 @@ impl<'a> FleetIo<'a> {
         self.radio.send(message, from_at, to_at);
     }
 
+    /// Whether robot `k`'s radio reaches the base station now (range, and one draw of the
+    /// loss): a map upload or a bid gets through.
+    pub fn link_to_base(&mut self, k: usize) -> bool {
+        let at = self.sim.robot(self.robots[k]).pose.position();
+        self.radio.link_to_base(at)
+    }
+
     /// The messages on `topic` that have arrived for `to`, oldest first.
     pub fn receive(&mut self, to: Endpoint, topic: &str) -> Vec<Message> {
         self.radio.receive(to, topic)

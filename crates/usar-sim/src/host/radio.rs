@@ -8,8 +8,9 @@ use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 use usar_world::Point2;
 
-/// The random stream of the radio (robots use streams 0, 1, … of the seed).
-const RADIO_STREAM: u64 = 1 << 22;
+/// The random stream of the radio (robots use streams 0, 1, … of the seed): the stream the
+/// team's radio drew from before the host had one, so earlier results stand.
+const RADIO_STREAM: u64 = (1 << 20) + 2;
 
 /// How far the radio carries and how often it loses a message.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -105,6 +106,18 @@ impl Radio {
         } else {
             self.in_flight.push(message);
         }
+    }
+
+    /// Whether a robot at `at` reaches the base station now: within range of it, and spared by
+    /// one draw of the loss probability (drawn whether in range or not, one draw per call).
+    pub(super) fn link_to_base(&mut self, at: Point2) -> bool {
+        let in_range = match (self.spec.range_m, self.spec.base) {
+            (Some(range), Some(base)) => at.distance(base) <= range,
+            _ => true,
+        };
+        let delivered = self.spec.drop_probability <= 0.0
+            || self.rng.random::<f64>() >= self.spec.drop_probability;
+        in_range && delivered
     }
 
     /// The clock moved on: messages in flight arrive.

@@ -2,10 +2,10 @@
 //! (candidates, perceived labels, bids, SR / MRv1 / MRv2 allocation, paths) with the room
 //! grouping, commitment and blacklists around it.
 
-use super::live::retrace;
+use super::driving::retrace;
 use super::*;
 
-impl TeamMission {
+impl TeamController {
     /// Reassigns targets to the robots in `who` (all robots at a periodic auction, or those
     /// that reached their target or got stuck).
     pub(super) fn assign(&mut self, who: &[usize]) {
@@ -22,7 +22,7 @@ impl TeamMission {
         };
         let cands: Vec<Candidate> =
             candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
-        let now = self.sim.time_s();
+        let now = self.now;
         // Targets of robots that keep theirs are taken (one robot per candidate).
         let keep: Vec<Cell> = (0..self.agents.len())
             .filter(|i| !who.contains(i))
@@ -31,13 +31,13 @@ impl TeamMission {
         let clearance = self.config.robot.circumscribed_radius_m() * 2.0;
         let mut costs = Vec::with_capacity(who.len());
         for &i in who {
-            let pose = self.sim.robot(self.agents[i].id).pose;
+            let pose = self.agents[i].pose;
             let others: Vec<Point2> = self
                 .agents
                 .iter()
                 .enumerate()
-                .filter(|&(j, a)| j != i && !self.sim.robot(a.id).failed)
-                .map(|(_, a)| self.sim.robot(a.id).pose.position())
+                .filter(|&(j, a)| j != i && a.alive)
+                .map(|(_, a)| a.pose.position())
                 .collect();
             self.agents[i].blacklist.retain(|&(_, until)| until > now);
             let mut row = Vec::new();
@@ -108,7 +108,7 @@ impl TeamMission {
                 None => self.idle(i),
             }
             let agent = &mut self.agents[i];
-            agent.progress_mark = (self.sim.robot(agent.id).pose, now);
+            agent.progress_mark = (agent.pose, now);
         }
     }
 
@@ -121,7 +121,7 @@ impl TeamMission {
             agent.follower = PathFollower::new(retrace(
                 &self.config.tuning,
                 &agent.trajectory,
-                self.sim.robot(agent.id).pose.position(),
+                agent.pose.position(),
             ));
         }
         agent.escaping = !agent.follower.is_empty();
@@ -131,7 +131,7 @@ impl TeamMission {
     /// the tight one. Waypoints from the robot to the goal.
     pub(super) fn plan_path(&mut self, i: usize, goal: Cell) -> Option<Vec<Point2>> {
         let g = *self.base.merged.geometry();
-        let here = self.sim.robot(self.agents[i].id).pose.position();
+        let here = self.agents[i].pose.position();
         let mut found = None;
         for radius in 0..2 {
             // The base station's grid (start and goal opened for the query, then closed again).
@@ -159,7 +159,7 @@ impl TeamMission {
     /// coordination method (robots not bidding keep their targets and count towards i(p)), then
     /// a path on the map to each new target.
     pub(super) fn auction(&mut self, who: &[usize]) {
-        let now = self.sim.time_s();
+        let now = self.now;
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
         let mut cands: Vec<Candidate> = {
@@ -178,7 +178,7 @@ impl TeamMission {
         let bidders: Vec<usize> = who
             .iter()
             .copied()
-            .filter(|&i| self.agents[i].linked && !self.sim.robot(self.agents[i].id).failed)
+            .filter(|&i| self.agents[i].linked && self.agents[i].alive)
             .collect();
         if bidders.is_empty() {
             return;
@@ -251,7 +251,7 @@ impl TeamMission {
         let mut live = vec![false; cands.len()];
         let mut targets = Vec::with_capacity(cands.len());
         for &i in &bidders {
-            let pose = self.sim.robot(self.agents[i].id).pose;
+            let pose = self.agents[i].pose;
             positions.push(pose.position());
             let agent = &mut self.agents[i];
             agent.blacklist.retain(|&(_, until)| until > now);
@@ -353,7 +353,7 @@ impl TeamMission {
         // Robots keeping their targets occupy the candidate nearest to each target.
         let mut already = vec![0usize; cands.len()];
         for (j, a) in self.agents.iter().enumerate() {
-            if who.contains(&j) || self.sim.robot(a.id).failed {
+            if who.contains(&j) || !a.alive {
                 continue;
             }
             if let Some(t) = a.target
@@ -425,7 +425,7 @@ impl TeamMission {
                 None => self.idle(i),
             }
             let agent = &mut self.agents[i];
-            agent.progress_mark = (self.sim.robot(agent.id).pose, now);
+            agent.progress_mark = (agent.pose, now);
         }
     }
 

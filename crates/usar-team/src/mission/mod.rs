@@ -1,11 +1,15 @@
-//! A team exploration mission: robots scan, the base station merges their maps, frontier
-//! candidates are assigned, robots drive their paths, victims are noticed by the thermal
-//! cameras, metrics are sampled. A mission is a pure function of (scene, configuration, seed).
+//! A team exploration mission: the team ([`TeamController`]) runs on the host — its robots
+//! scan, the base station merges their maps, frontier candidates are assigned, robots drive
+//! their paths, the thermal cameras report warm regions — while the mission, holding the
+//! ground truth, measures coverage, relevant area and victims found and stops the run by the
+//! experiment's rules. A mission is a pure function of (scene, configuration, seed).
 
 use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
 use crate::bids::{Measures, TeamSizer};
+use crate::config::Localization;
 use crate::config::{Strategy, TeamConfig};
+use crate::coverage::CoverageCounter;
 use crate::driver::{PathFollower, Recovery, RecoveryStep};
 use crate::mcdm::FuzzyMeasure;
 use crate::outcome::{Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
@@ -13,23 +17,29 @@ use crate::room_candidates::{CandidateGrouping, ClusterCandidate, group_by_room}
 use crate::semantic_map::SemanticMap;
 use crate::travel_time::TravelTimes;
 use crate::tuning::Tuning;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use usar_map::planning::{DistanceField, GridAStar, NavGrid};
 use usar_map::{OccupancyGrid, OccupancyParams};
+use usar_sim::host::{FleetId, Host, Oracles, RadioSpec};
 use usar_sim::sensors::{HeatTruth, LaserScan};
-use usar_sim::{PlacementError, RobotId, Simulation, Velocity, derive_seed};
+use usar_sim::{PlacementError, Simulation, Velocity, derive_seed};
 use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_angle};
 
 mod allocation;
+mod controller;
+mod driving;
 mod live;
 
-/// Random streams of the team (robots use streams 0, 1, … of the simulation's seed).
+pub use self::controller::{TeamController, VictimReport};
+use self::driving::{gives_way, stuck_check};
+
+/// Random streams of the team (robots use streams 0, 1, … of the simulation's seed; the radio
+/// (1 << 20) + 2).
 const SEMANTIC_STREAM: u64 = 1 << 20;
 const STRATEGY_STREAM: u64 = (1 << 20) + 1;
-const RADIO_STREAM: u64 = (1 << 20) + 2;
 /// Fraction of the relevant area whose time is reported when no stop target is set (§4.4).
 const DEFAULT_RELEVANT_TARGET: f64 = 0.9;
 
@@ -51,37 +61,6 @@ pub enum MissionError {
     Config(String),
 }
 
-struct Agent {
-    id: RobotId,
-    map: OccupancyGrid,
-    scan: LaserScan,
-    follower: PathFollower,
-    target: Option<Cell>,
-    /// Pose and time of the last progress check.
-    progress_mark: (Pose2, f64),
-    /// Turning at the checks since the robot last moved [`Tuning::stuck_distance_m`], radians.
-    turned_in_place_rad: f64,
-    blacklist: Vec<(Cell, f64)>,
-    trajectory: Vec<Point2>,
-    /// Path costs from the robot, reused between assignments (nearest-frontier strategy).
-    field: DistanceField,
-    /// Recovery after bumps: the manoeuvre under way and the motions it may retrace.
-    recovery: Recovery,
-    /// Recoveries since the current target was assigned.
-    recoveries: u32,
-    /// Retracing its own trajectory out of a pocket the map no longer connects.
-    escaping: bool,
-    /// Whether it may retrace when no candidate is reachable: once after each target, so that
-    /// a robot with nothing left to do goes idle instead of pacing back and forth.
-    may_retrace: bool,
-    /// Where it took its last scan.
-    last_scan: Option<Pose2>,
-    /// Whether its link to the base station worked at the last exchange.
-    linked: bool,
-    /// With a limited radio: the base station's copy of this robot's map as last received.
-    uploaded: Option<OccupancyGrid>,
-}
-
 /// A live controller beside a running mission (the operator console): it may replace any
 /// robot's velocity command (teleoperation) and, after every simulation step, look at the
 /// mission, change it through its public methods, pace it, or end it.
@@ -101,33 +80,20 @@ struct NoHook;
 
 impl MissionHook for NoHook {}
 
+/// A team mission: the host with the team's robots, the team controller, and the evaluation.
 pub struct TeamMission {
     config: TeamConfig,
-    sim: Simulation,
-    agents: Vec<Agent>,
-    base: BaseStation,
+    host: Host,
+    fleet: FleetId,
+    team: TeamController,
+    /// Evaluation: the part of the reachable area the team's merged map knows.
+    coverage: CoverageCounter,
+    /// Evaluation: the relevant area the team's merged map knows (the scene's room layer).
+    relevant: SemanticMap,
+    /// Merges of the team's map taken into the evaluation.
+    merges_seen: u64,
     victims_seen: Vec<VictimSighting>,
     samples: Vec<Sample>,
-    semantic: SemanticMap,
-    measures: Measures,
-    sizer: TeamSizer,
-    planner: GridAStar,
-    /// The current bidder's distance field on the bid grid: one buffer for every bidder, so
-    /// that an auction keeps one field's memory in cache rather than one per robot.
-    bid_field: DistanceField,
-    /// b(p, r) of the current bidder's paths, memoised along its distance field.
-    travel_times: TravelTimes,
-    strategy_rng: Pcg64Mcg,
-    radio_rng: Pcg64Mcg,
-    assigned_per_label: BTreeMap<RoomLabel, u32>,
-    /// Candidates a robot reached (auctions): not offered to anyone for a while.
-    visited: Vec<(Cell, f64)>,
-    allocations: Vec<crate::outcome::Allocation>,
-    /// Per room: the last i(p) inferred, with the perceived label and known fraction it was
-    /// inferred from.
-    team_sizes: Vec<Option<(Option<RoomLabel>, f64, usize)>>,
-    /// Where and when robots reached their targets, waiting for a scan there to be merged.
-    arrivals: Vec<(Point2, f64)>,
     relevant_target: f64,
     time_to_relevant_s: Option<f64>,
 }
@@ -219,85 +185,76 @@ impl TeamMission {
                 requested: config.robots,
             });
         }
-        let mut sim = Simulation::new(scene.clone(), config.sim.clone(), seed);
-        let params = OccupancyParams::default();
         let geometry = map_geometry(&scene, config.map_resolution_m);
-        let mut agents = Vec::new();
-        for &pose in &scene.start_poses[..config.robots] {
-            let id = sim.add_robot(config.robot.clone(), pose)?;
-            agents.push(Agent {
-                id,
-                map: OccupancyGrid::new(geometry, params),
-                scan: LaserScan::default(),
-                follower: PathFollower::default(),
-                target: None,
-                progress_mark: (pose, 0.0),
-                turned_in_place_rad: 0.0,
-                blacklist: Vec::new(),
-                trajectory: vec![pose.position()],
-                field: DistanceField::new(),
-                recovery: Recovery::for_robot(&config.robot),
-                recoveries: 0,
-                escaping: false,
-                may_retrace: true,
-                last_scan: None,
-                linked: true,
-                uploaded: (config.radio != crate::config::Radio::default())
-                    .then(|| OccupancyGrid::new(geometry, params)),
+        let starts = &scene.start_poses[..config.robots];
+        let base = starts[0].position();
+        let oracles = Oracles {
+            localization: config.localization == Localization::True,
+        };
+        let mut host =
+            Host::new(scene.clone(), config.sim.clone(), seed, oracles).with_radio(RadioSpec {
+                range_m: config.radio.range_m,
+                drop_probability: config.radio.drop_probability,
+                base: Some(base),
             });
+        let robots: Vec<_> = starts
+            .iter()
+            .map(|&pose| (config.robot.clone(), pose))
+            .collect();
+        let fleet = host.add_fleet(&robots)?;
+        for f in &config.failures {
+            host.schedule_failure(host.fleet(fleet)[f.robot], f.at_s);
         }
-        let start = scene.start_poses[0].position();
-        // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
-        let half_cell = geometry.resolution_m / 2.0;
-        let tight = config.robot.width_m / 2.0 + config.tuning.tight_margin_m + half_cell;
-        let base = BaseStation::new(
-            &scene,
-            geometry,
-            params,
-            config.robot.circumscribed_radius_m() + half_cell,
-            tight,
-            config.exploration.bid_grid_factor,
-            start,
-        );
-        let semantic = SemanticMap::new(
+        let semantic_oracle = SemanticMap::new(
             &scene,
             &geometry,
             &config.exploration.hypothesis,
             config.exploration.label_errors,
             Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM)),
         );
-        let team_sizes = vec![None; semantic.rooms().len()];
+        // The evaluation's copy draws no labels: its random stream is never used.
+        let relevant = SemanticMap::new(
+            &scene,
+            &geometry,
+            &config.exploration.hypothesis,
+            config.exploration.label_errors,
+            Pcg64Mcg::seed_from_u64(0),
+        );
+        let team = TeamController::new(
+            config.clone(),
+            starts,
+            geometry,
+            semantic_oracle,
+            measures,
+            seed,
+        );
         Ok(Self {
-            sizer: TeamSizer::new(config.exploration.max_robots_per_candidate),
             relevant_target: config.stop_at_relevant.unwrap_or(DEFAULT_RELEVANT_TARGET),
+            coverage: CoverageCounter::new(&scene, base, &geometry),
             config,
-            sim,
-            agents,
-            base,
+            host,
+            fleet,
+            team,
+            relevant,
+            merges_seen: 0,
             victims_seen: Vec::new(),
             samples: Vec::new(),
-            semantic,
-            measures,
-            planner: GridAStar::new(),
-            bid_field: DistanceField::new(),
-            travel_times: TravelTimes::new(),
-            strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
-            radio_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, RADIO_STREAM)),
-            assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
-            visited: Vec::new(),
-            allocations: Vec::new(),
-            team_sizes,
-            arrivals: Vec::new(),
             time_to_relevant_s: None,
         })
     }
 
     pub fn base_station(&self) -> &BaseStation {
-        &self.base
+        &self.team.base
     }
 
+    /// The world, as the evaluation sees it (true poses, the scene).
     pub fn simulation(&self) -> &Simulation {
-        &self.sim
+        self.host.evaluator().simulation()
+    }
+
+    /// The coverage of the team's merged map so far (evaluation).
+    pub fn coverage(&self) -> f64 {
+        self.coverage.coverage()
     }
 
     fn every(&self, period_s: f64, step: u64) -> bool {
@@ -305,102 +262,37 @@ impl TeamMission {
         step.is_multiple_of(n)
     }
 
-    pub fn semantic_map(&self) -> &SemanticMap {
-        &self.semantic
-    }
-
-    fn scan_all(&mut self) {
-        let (min_move, min_turn) = (self.config.rescan_distance_m, self.config.rescan_turn_rad);
-        for a in &mut self.agents {
-            let r = self.sim.robot(a.id);
-            if r.failed {
-                continue;
-            }
-            if let Some(last) = a.last_scan
-                && last.position().distance(r.pose.position()) < min_move
-                && usar_world::normalize_angle(last.theta - r.pose.theta).abs() < min_turn
+    /// Follows what the team did at its last step: a merge of its map (coverage, relevant
+    /// area) and its victim reports (which victims they were).
+    fn evaluate(&mut self) {
+        if self.team.merges() != self.merges_seen {
+            self.merges_seen = self.team.merges();
+            let base = &self.team.base;
+            self.coverage.update_from(&base.merged, base.last_changes());
+            self.relevant.update_from(&base.merged, base.last_changes());
+            if self.time_to_relevant_s.is_none()
+                && self.relevant.relevant_fraction() >= self.relevant_target
             {
-                continue;
+                self.time_to_relevant_s = Some(self.host.time_s());
             }
-            a.last_scan = Some(r.pose);
-            self.sim.scan_laser(a.id, &mut a.scan);
-            a.map.integrate_scan(&a.scan);
+        }
+        let truth = self.host.evaluator();
+        for report in self.team.take_reports() {
+            if let Some(HeatTruth::Victim(id)) = truth.truth_of(report.reading)
+                && !self.victims_seen.iter().any(|v| v.victim_id == id)
+            {
+                self.victims_seen.push(VictimSighting {
+                    victim_id: id,
+                    robot: report.robot,
+                    time_s: report.time_s,
+                });
+            }
         }
     }
 
-    /// Draws whether each working robot can talk to the base station now.
-    fn update_links(&mut self) {
-        let base = self.sim.scene().start_poses[0].position();
-        let radio = &self.config.radio;
-        for a in &mut self.agents {
-            let r = self.sim.robot(a.id);
-            let in_range = radio
-                .range_m
-                .is_none_or(|range| r.pose.position().distance(base) <= range);
-            let delivered = radio.drop_probability <= 0.0
-                || self.radio_rng.random::<f64>() >= radio.drop_probability;
-            a.linked = !r.failed && in_range && delivered;
-        }
-    }
-
-    fn merge(&mut self) {
-        self.update_links();
-        // With a limited radio the base station merges the copies it last received (a merge
-        // recomputes a tile from every map given, so an unheard robot's copy stands in for it).
-        let mut scratch = Vec::new();
-        for a in &mut self.agents {
-            if let (true, Some(copy)) = (a.linked, a.uploaded.as_mut()) {
-                copy.merge_from(&mut [&mut a.map]);
-                copy.drain_changed(&mut scratch);
-                scratch.clear();
-            }
-            // Nothing reads a robot's own class-change log: emptied here, it stays small
-            // instead of growing with every scan of the mission.
-            a.map.drain_changed(&mut scratch);
-            scratch.clear();
-        }
-        let mut maps: Vec<&mut OccupancyGrid> = self
-            .agents
-            .iter_mut()
-            .map(|a| a.uploaded.as_mut().unwrap_or(&mut a.map))
-            .collect();
-        self.base.merge(&mut maps);
-        self.semantic
-            .update_from(&self.base.merged, self.base.last_changes());
-        if self.time_to_relevant_s.is_none()
-            && self.semantic.relevant_fraction() >= self.relevant_target
-        {
-            self.time_to_relevant_s = Some(self.sim.time_s());
-        }
-        // Arrivals whose scan on the spot is in the merged map now.
-        let now = self.sim.time_s();
-        let settled = now - self.config.timing.scan_period_s;
-        let g = *self.base.merged.geometry();
-        let radius = (self.config.tuning.unobservable_radius_m / g.resolution_m).round() as i32;
-        for &(p, _) in self.arrivals.iter().filter(|&&(_, t)| t <= settled) {
-            self.base.frontiers.retire_near(g.world_to_cell(p), radius);
-        }
-        self.arrivals.retain(|&(_, t)| t > settled);
-    }
-
-    fn read_thermal(&mut self) {
-        let now = self.sim.time_s();
-        for a in &self.agents {
-            if self.sim.robot(a.id).failed {
-                continue;
-            }
-            for d in self.sim.read_thermal(a.id) {
-                if let (true, HeatTruth::Victim(id)) = (d.human_signature, d.truth)
-                    && !self.victims_seen.iter().any(|v| v.victim_id == id)
-                {
-                    self.victims_seen.push(VictimSighting {
-                        victim_id: id,
-                        robot: a.id.0,
-                        time_s: now,
-                    });
-                }
-            }
-        }
+    /// The semantic oracle the team bids with.
+    pub fn semantic_map(&self) -> &SemanticMap {
+        &self.team.semantic
     }
 
     /// Whether coverage grew by less than [`TeamConfig::stall_growth`] over the last
@@ -419,15 +311,22 @@ impl TeamMission {
             .is_some_and(|before| last.coverage - before.coverage < self.config.stall_growth)
     }
 
-    fn sample(&mut self) {
+    /// Samples the metrics; the start sample is taken before the team's first allocation.
+    fn sample(&mut self, at_start: bool) {
+        let truth = self.host.evaluator();
+        let assigned_per_label = if at_start {
+            RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect()
+        } else {
+            self.team.assigned_per_label.clone()
+        };
         self.samples.push(Sample {
-            time_s: self.sim.time_s(),
-            coverage: self.base.coverage.coverage(),
-            explored_area_m2: self.base.merged.known_area_m2(),
+            time_s: truth.time_s(),
+            coverage: self.coverage.coverage(),
+            explored_area_m2: self.team.base.merged.known_area_m2(),
             victims_seen: self.victims_seen.len(),
-            distance_m: self.sim.robots().iter().map(|r| r.distance_m).sum(),
-            relevant_area_m2: self.semantic.relevant_area_m2(),
-            assigned_per_label: self.assigned_per_label.clone(),
+            distance_m: truth.robots().iter().map(|r| r.distance_m).sum(),
+            relevant_area_m2: self.relevant.relevant_area_m2(),
+            assigned_per_label,
         });
     }
 
@@ -438,12 +337,13 @@ impl TeamMission {
 
     /// The robots' current goals (the end of the path each follows), by robot index.
     pub fn robot_goal(&self, robot: usize) -> Option<Point2> {
-        self.agents.get(robot).and_then(|a| a.follower.goal())
+        self.team.agents.get(robot).and_then(|a| a.follower.goal())
     }
 
     /// Whether robot `robot` is backing out of a contact (a recovery manoeuvre).
     pub fn is_recovering(&self, robot: usize) -> bool {
-        self.agents
+        self.team
+            .agents
             .get(robot)
             .is_some_and(|a| a.recovery.is_active())
     }
@@ -451,34 +351,39 @@ impl TeamMission {
     /// Replaces the relevance hypothesis of the auctions (paper 002 §4.1) while the mission
     /// runs; the relevant-area measure keeps the hypothesis the mission started with.
     pub fn set_hypothesis(&mut self, hypothesis: crate::criteria::Hypothesis) {
-        self.config.exploration.hypothesis = hypothesis;
+        self.team.config.exploration.hypothesis = hypothesis;
     }
 
     fn outcome(self, finish: Finish) -> TeamOutcome {
-        let scene = self.sim.scene();
+        let truth = self.host.evaluator();
+        let scene = truth.scene();
         let g = scene.geometry();
         let mut victims_seen = self.victims_seen;
         victims_seen.sort_by_key(|v| v.victim_id);
+        let ids = self.host.fleet(self.fleet);
+        let team = self.team;
         TeamOutcome {
             scene: scene.name.clone(),
-            robots: self.agents.len(),
-            time_s: self.sim.time_s(),
+            robots: team.agents.len(),
+            time_s: truth.time_s(),
             finish,
-            coverage: self.base.coverage.coverage(),
-            explored_area_m2: self.base.merged.known_area_m2(),
-            reachable_area_m2: self.base.coverage.reachable_cells() as f64 * g.cell_area_m2(),
+            coverage: self.coverage.coverage(),
+            explored_area_m2: team.base.merged.known_area_m2(),
+            reachable_area_m2: self.coverage.reachable_cells() as f64 * g.cell_area_m2(),
             victims_total: scene.victims.len(),
             victims_seen: victims_seen.len(),
             victim_sightings: victims_seen,
-            distance_m: self.sim.robots().iter().map(|r| r.distance_m).sum(),
-            collisions: self.sim.robots().iter().map(|r| r.collisions).sum(),
-            per_robot: self
+            distance_m: truth.robots().iter().map(|r| r.distance_m).sum(),
+            collisions: truth.robots().iter().map(|r| r.collisions).sum(),
+            per_robot: team
                 .agents
                 .iter()
-                .map(|a| {
-                    let r = self.sim.robot(a.id);
+                .zip(ids)
+                .enumerate()
+                .map(|(k, (a, &id))| {
+                    let r = truth.robot(id);
                     RobotOutcome {
-                        robot: a.id.0,
+                        robot: k,
                         distance_m: r.distance_m,
                         collisions: r.collisions,
                         trajectory: a.trajectory.clone(),
@@ -486,13 +391,13 @@ impl TeamMission {
                 })
                 .collect(),
             series: self.samples,
-            relevant_area_m2: self.semantic.relevant_area_m2(),
-            relevant_total_m2: self.semantic.relevant_total_m2(),
+            relevant_area_m2: self.relevant.relevant_area_m2(),
+            relevant_total_m2: self.relevant.relevant_total_m2(),
             time_to_relevant_s: self.time_to_relevant_s,
             relevant_target: self.relevant_target,
-            assigned_per_label: self.assigned_per_label,
-            allocations: self.allocations,
-            merged_map: self.base.merged,
+            assigned_per_label: team.assigned_per_label,
+            allocations: team.allocations,
+            merged_map: team.base.merged,
         }
     }
 }

@@ -1,0 +1,446 @@
+//! The team as a controller on the host: each step it reads its robots' sensors through a
+//! [`FleetIo`] — laser scans every scan period, the thermal camera every thermal period, the
+//! bumper and the motion achieved every step — merges their maps at the base station, runs the
+//! allocation, and sets every robot's velocity. It never sees the scene: the semantic labels
+//! of paper 002 come through the named semantic oracle it is built with, and the robots' poses
+//! through the localization oracle when the host has it on.
+
+use super::*;
+use usar_sim::host::{Controller, FleetIo};
+
+pub(super) struct Agent {
+    /// Where the controller believes the robot is, refreshed at every step.
+    pub(super) pose: Pose2,
+    /// Whether the robot still answers.
+    pub(super) alive: bool,
+    pub(super) map: OccupancyGrid,
+    pub(super) scan: LaserScan,
+    pub(super) follower: PathFollower,
+    pub(super) target: Option<Cell>,
+    /// Pose and time of the last progress check.
+    pub(super) progress_mark: (Pose2, f64),
+    /// Turning at the checks since the robot last moved [`Tuning::stuck_distance_m`], radians.
+    pub(super) turned_in_place_rad: f64,
+    pub(super) blacklist: Vec<(Cell, f64)>,
+    pub(super) trajectory: Vec<Point2>,
+    /// Path costs from the robot, reused between assignments (nearest-frontier strategy).
+    pub(super) field: DistanceField,
+    /// Recovery after bumps: the manoeuvre under way and the motions it may retrace.
+    pub(super) recovery: Recovery,
+    /// Recoveries since the current target was assigned.
+    pub(super) recoveries: u32,
+    /// Retracing its own trajectory out of a pocket the map no longer connects.
+    pub(super) escaping: bool,
+    /// Whether it may retrace when no candidate is reachable: once after each target, so that
+    /// a robot with nothing left to do goes idle instead of pacing back and forth.
+    pub(super) may_retrace: bool,
+    /// Where it took its last scan.
+    pub(super) last_scan: Option<Pose2>,
+    /// Whether its link to the base station worked at the last exchange.
+    pub(super) linked: bool,
+    /// With a limited radio: the base station's copy of this robot's map as last received.
+    pub(super) uploaded: Option<OccupancyGrid>,
+}
+
+/// A warm region with a human signature one of the team's robots saw: the team reports it, the
+/// evaluator tells which victim (if any) it was.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VictimReport {
+    pub reading: usar_sim::sensors::DetectionId,
+    /// The team's robot that saw it.
+    pub robot: usize,
+    pub time_s: f64,
+}
+
+/// Paper 002's team (or the nearest-frontier baseline) driving its fleet.
+pub struct TeamController {
+    pub(super) config: TeamConfig,
+    pub(super) agents: Vec<Agent>,
+    pub(super) base: BaseStation,
+    /// The semantic oracle: room extents, labels, doors and visibility of paper 002 §4.
+    pub(super) semantic: SemanticMap,
+    pub(super) measures: Measures,
+    pub(super) sizer: TeamSizer,
+    pub(super) planner: GridAStar,
+    /// The current bidder's distance field on the bid grid: one buffer for every bidder, so
+    /// that an auction keeps one field's memory in cache rather than one per robot.
+    pub(super) bid_field: DistanceField,
+    /// b(p, r) of the current bidder's paths, memoised along its distance field.
+    pub(super) travel_times: TravelTimes,
+    pub(super) strategy_rng: Pcg64Mcg,
+    pub(super) assigned_per_label: BTreeMap<RoomLabel, u32>,
+    /// Candidates a robot reached (auctions): not offered to anyone for a while.
+    pub(super) visited: Vec<(Cell, f64)>,
+    pub(super) allocations: Vec<crate::outcome::Allocation>,
+    /// Per room: the last i(p) inferred, with the perceived label and known fraction it was
+    /// inferred from.
+    pub(super) team_sizes: Vec<Option<(Option<RoomLabel>, f64, usize)>>,
+    /// Where and when robots reached their targets, waiting for a scan there to be merged.
+    pub(super) arrivals: Vec<(Point2, f64)>,
+    /// The clock at this step.
+    pub(super) now: f64,
+    /// Steps seen (0 before the first).
+    step: u64,
+    /// Robots whose recovery ended at the last step: they need a target.
+    replan: Vec<usize>,
+    idle_since: Option<f64>,
+    explored: bool,
+    /// Merges done so far (the evaluator follows the merged map's changes by it).
+    merges: u64,
+    reports: Vec<VictimReport>,
+}
+
+impl TeamController {
+    /// A team for robots starting at `starts`, its maps on `geometry`, its semantic oracle
+    /// `semantic`, its random choices drawn from streams of `seed`.
+    pub(super) fn new(
+        config: TeamConfig,
+        starts: &[Pose2],
+        geometry: GridGeometry,
+        semantic: SemanticMap,
+        measures: Measures,
+        seed: u64,
+    ) -> Self {
+        let params = OccupancyParams::default();
+        let agents = starts
+            .iter()
+            .map(|&pose| Agent {
+                pose,
+                alive: true,
+                map: OccupancyGrid::new(geometry, params),
+                scan: LaserScan::default(),
+                follower: PathFollower::default(),
+                target: None,
+                progress_mark: (pose, 0.0),
+                turned_in_place_rad: 0.0,
+                blacklist: Vec::new(),
+                trajectory: vec![pose.position()],
+                field: DistanceField::new(),
+                recovery: Recovery::for_robot(&config.robot),
+                recoveries: 0,
+                escaping: false,
+                may_retrace: true,
+                last_scan: None,
+                linked: true,
+                uploaded: (config.radio != crate::config::Radio::default())
+                    .then(|| OccupancyGrid::new(geometry, params)),
+            })
+            .collect();
+        // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
+        let half_cell = geometry.resolution_m / 2.0;
+        let tight = config.robot.width_m / 2.0 + config.tuning.tight_margin_m + half_cell;
+        let base = BaseStation::new(
+            geometry,
+            params,
+            config.robot.circumscribed_radius_m() + half_cell,
+            tight,
+            config.exploration.bid_grid_factor,
+        );
+        let team_sizes = vec![None; semantic.rooms().len()];
+        Self {
+            sizer: TeamSizer::new(config.exploration.max_robots_per_candidate),
+            config,
+            agents,
+            base,
+            semantic,
+            measures,
+            planner: GridAStar::new(),
+            bid_field: DistanceField::new(),
+            travel_times: TravelTimes::new(),
+            strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
+            assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
+            visited: Vec::new(),
+            allocations: Vec::new(),
+            team_sizes,
+            arrivals: Vec::new(),
+            now: 0.0,
+            step: 0,
+            replan: Vec::new(),
+            idle_since: None,
+            explored: false,
+            merges: 0,
+            reports: Vec::new(),
+        }
+    }
+
+    pub fn base_station(&self) -> &BaseStation {
+        &self.base
+    }
+
+    /// Whether the team believes the floor explored: nobody has had anything to do for
+    /// [`Tuning::explored_after_s`].
+    pub fn explored(&self) -> bool {
+        self.explored
+    }
+
+    /// How many times the base station has merged the robots' maps.
+    pub fn merges(&self) -> u64 {
+        self.merges
+    }
+
+    /// The victim reports since the last call.
+    pub fn take_reports(&mut self) -> Vec<VictimReport> {
+        std::mem::take(&mut self.reports)
+    }
+
+    fn every(&self, period_s: f64) -> bool {
+        let n = (period_s / self.config.sim.dt_s).round().max(1.0) as u64;
+        self.step.is_multiple_of(n)
+    }
+
+    /// Reads where every robot is and whether it answers: the true pose under the localization
+    /// oracle.
+    fn refresh(&mut self, io: &FleetIo<'_>) {
+        self.now = io.time_s();
+        for (k, a) in self.agents.iter_mut().enumerate() {
+            let alive = io.alive(k);
+            if a.alive && !alive {
+                // It failed: nothing more is asked of it.
+                a.target = None;
+                a.follower = PathFollower::default();
+                a.escaping = false;
+                a.recovery.stop();
+            }
+            a.alive = alive;
+            a.pose = io.true_pose(k).unwrap_or_else(|| io.odometry(k).estimate);
+        }
+    }
+
+    fn scan_all(&mut self, io: &mut FleetIo<'_>) {
+        let (min_move, min_turn) = (self.config.rescan_distance_m, self.config.rescan_turn_rad);
+        for (k, a) in self.agents.iter_mut().enumerate() {
+            if !a.alive {
+                continue;
+            }
+            if let Some(last) = a.last_scan
+                && last.position().distance(a.pose.position()) < min_move
+                && normalize_angle(last.theta - a.pose.theta).abs() < min_turn
+            {
+                continue;
+            }
+            a.last_scan = Some(a.pose);
+            io.laser(k, &mut a.scan);
+            a.map.integrate_scan(&a.scan);
+        }
+    }
+
+    /// Merges what reached the base station. With a limited radio the base station merges the
+    /// copies it last received (a merge recomputes a tile from every map given, so an unheard
+    /// robot's copy stands in for it).
+    pub(super) fn merge(&mut self, io: &mut FleetIo<'_>) {
+        for (k, a) in self.agents.iter_mut().enumerate() {
+            let link = io.link_to_base(k);
+            a.linked = a.alive && link;
+        }
+        let mut scratch = Vec::new();
+        for a in &mut self.agents {
+            if let (true, Some(copy)) = (a.linked, a.uploaded.as_mut()) {
+                copy.merge_from(&mut [&mut a.map]);
+                copy.drain_changed(&mut scratch);
+                scratch.clear();
+            }
+            // Nothing reads a robot's own class-change log: emptied here, it stays small
+            // instead of growing with every scan of the mission.
+            a.map.drain_changed(&mut scratch);
+            scratch.clear();
+        }
+        let mut maps: Vec<&mut OccupancyGrid> = self
+            .agents
+            .iter_mut()
+            .map(|a| a.uploaded.as_mut().unwrap_or(&mut a.map))
+            .collect();
+        self.base.merge(&mut maps);
+        self.semantic
+            .update_from(&self.base.merged, self.base.last_changes());
+        self.merges += 1;
+        // Arrivals whose scan on the spot is in the merged map now.
+        let settled = self.now - self.config.timing.scan_period_s;
+        let g = *self.base.merged.geometry();
+        let radius = (self.config.tuning.unobservable_radius_m / g.resolution_m).round() as i32;
+        for &(p, _) in self.arrivals.iter().filter(|&&(_, t)| t <= settled) {
+            self.base.frontiers.retire_near(g.world_to_cell(p), radius);
+        }
+        self.arrivals.retain(|&(_, t)| t > settled);
+    }
+
+    fn read_thermal(&mut self, io: &mut FleetIo<'_>) {
+        for (k, a) in self.agents.iter().enumerate() {
+            if !a.alive {
+                continue;
+            }
+            for d in io.thermal(k) {
+                if d.human_signature {
+                    self.reports.push(VictimReport {
+                        reading: d.id,
+                        robot: k,
+                        time_s: self.now,
+                    });
+                }
+            }
+        }
+    }
+
+    /// The first step: every robot scans, the maps are merged, the first targets assigned.
+    fn start(&mut self, io: &mut FleetIo<'_>) {
+        self.scan_all(io);
+        self.merge(io);
+        self.read_thermal(io);
+        let everyone: Vec<usize> = (0..self.agents.len()).collect();
+        // Nothing assigned yet ends the mission only by the idle rule: the robots' first
+        // targets may have no path on the map (the coarser bid grid joins more), and the next
+        // auction offers them others.
+        self.assign(&everyone);
+    }
+
+    /// What the last step brought: scans, heat, a merge and new targets when due.
+    fn sense_and_plan(&mut self, io: &mut FleetIo<'_>) {
+        let dt_s = io.dt_s();
+        for (k, a) in self.agents.iter_mut().enumerate() {
+            a.recovery.record(io.achieved(k), dt_s);
+        }
+        let now = self.now;
+        if self.every(self.config.timing.scan_period_s) {
+            self.scan_all(io);
+        }
+        if self.every(self.config.timing.thermal_period_s) {
+            self.read_thermal(io);
+        }
+        let merged_now = self.every(self.config.timing.merge_period_s);
+        if merged_now {
+            self.merge(io);
+        }
+        if self.every(1.0) {
+            for a in &mut self.agents {
+                a.trajectory.push(a.pose.position());
+            }
+        }
+        // Who needs a new target: reached it, has none, made no progress, or recovered.
+        let mut who = std::mem::take(&mut self.replan);
+        let auctioned = self.config.exploration.strategy != Strategy::Nearest;
+        let tuning = self.config.tuning;
+        for (i, a) in self.agents.iter_mut().enumerate() {
+            if !a.alive || a.recovery.is_active() || who.contains(&i) {
+                continue;
+            }
+            let done = a.follower.is_done(a.pose);
+            if a.target.is_some() && !done && now - a.progress_mark.1 >= tuning.stuck_window_s {
+                let (mark, _) = a.progress_mark;
+                let (stuck, turned) = stuck_check(&tuning, mark, a.pose, a.turned_in_place_rad);
+                a.turned_in_place_rad = turned;
+                if stuck {
+                    a.blacklist
+                        .push((a.target.expect("has target"), now + tuning.blacklist_s));
+                    a.follower = PathFollower::default();
+                    a.target = None;
+                    who.push(i);
+                    continue;
+                }
+                a.progress_mark = (a.pose, now);
+            }
+            if a.escaping {
+                if done {
+                    a.escaping = false;
+                    who.push(i);
+                }
+                continue;
+            }
+            if done && let Some(reached) = a.target {
+                // A frontier that did not resolve on arrival (it lies behind something the
+                // laser cannot see past) is left alone for a while.
+                a.blacklist
+                    .push((reached, now + tuning.reached_blacklist_s));
+                if auctioned {
+                    self.visited
+                        .push((reached, now + tuning.visited_blacklist_s));
+                    self.arrivals.push((a.pose.position(), now));
+                }
+                a.target = None;
+                who.push(i);
+            } else if done && merged_now {
+                who.push(i);
+            }
+        }
+        if self.every(self.config.timing.assignment_period_s) {
+            who = (0..self.agents.len()).collect();
+        }
+        if !who.is_empty() {
+            self.assign(&who);
+        }
+        if self
+            .agents
+            .iter()
+            .all(|a| a.target.is_none() && !a.escaping)
+        {
+            let since = *self.idle_since.get_or_insert(now);
+            if now - since >= tuning.explored_after_s {
+                self.explored = true;
+            }
+        } else {
+            self.idle_since = None;
+        }
+    }
+
+    /// Every robot's velocity for the coming step: a recovery manoeuvre, or its path, giving
+    /// way to a team mate close ahead.
+    fn drive(&mut self, io: &mut FleetIo<'_>) {
+        let now = self.now;
+        let tuning = self.config.tuning;
+        let poses: Vec<Pose2> = self.agents.iter().map(|a| a.pose).collect();
+        for (k, a) in self.agents.iter_mut().enumerate() {
+            let command = match a.recovery.step(now, io.contact(k)) {
+                RecoveryStep::Escape(v) => v,
+                RecoveryStep::Ended => {
+                    a.recoveries += 1;
+                    if a.recoveries >= tuning.max_recoveries
+                        && let Some(t) = a.target.take()
+                    {
+                        a.blacklist.push((t, now + tuning.blacklist_s));
+                        a.follower = PathFollower::default();
+                    }
+                    self.replan.push(k);
+                    Velocity::default()
+                }
+                RecoveryStep::Free => {
+                    let mut cmd = a.follower.command(a.pose, io.spec(k));
+                    if cmd.linear_mps > 0.0
+                        && poses[..k]
+                            .iter()
+                            .any(|o| gives_way(&tuning, a.pose, o.position()))
+                    {
+                        cmd.linear_mps = 0.0;
+                    }
+                    cmd
+                }
+            };
+            io.command(k, command);
+        }
+    }
+
+    /// The last merge of a mission that ends.
+    pub(super) fn finish(&mut self, io: &mut FleetIo<'_>) {
+        self.refresh(io);
+        self.merge(io);
+    }
+}
+
+impl Controller for TeamController {
+    fn step(&mut self, io: &mut FleetIo<'_>) {
+        self.refresh(io);
+        if self.step == 0 {
+            self.start(io);
+        } else {
+            self.sense_and_plan(io);
+        }
+        self.step += 1;
+        self.drive(io);
+    }
+}
+
+/// The last merge as a controller step (no commands).
+pub(super) struct Finishing<'a>(pub(super) &'a mut TeamController);
+
+impl Controller for Finishing<'_> {
+    fn step(&mut self, io: &mut FleetIo<'_>) {
+        self.0.finish(io);
+    }
+}

@@ -1,0 +1,91 @@
+//! Driving rules of the team's robots the papers leave open: when a robot with a target is
+//! stuck, the way back along its trajectory, and when it gives way to a team mate.
+
+use super::*;
+
+/// The progress check of a robot with a target, [`Tuning::stuck_window_s`] after its `mark`: whether it
+/// is stuck, and its turning in place since it last moved (`turned_before` until this check).
+/// Moving [`Tuning::stuck_distance_m`] is progress; so is turning [`Tuning::stuck_turn_rad`], up to
+/// [`Tuning::max_turn_in_place_rad`] in all while the robot stays put.
+pub(super) fn stuck_check(
+    tuning: &Tuning,
+    mark: Pose2,
+    now: Pose2,
+    turned_before: f64,
+) -> (bool, f64) {
+    if now.position().distance(mark.position()) >= tuning.stuck_distance_m {
+        return (false, 0.0);
+    }
+    let turned = normalize_angle(now.theta - mark.theta).abs();
+    let total = turned_before + turned;
+    if turned < tuning.stuck_turn_rad || total > tuning.max_turn_in_place_rad {
+        (true, 0.0)
+    } else {
+        (false, total)
+    }
+}
+
+/// The way back along a trajectory: its points from the latest backwards, until [`Tuning::retrace_m`]
+/// away from `here` along the way (empty when there is no way back).
+pub(super) fn retrace(tuning: &Tuning, trajectory: &[Point2], here: Point2) -> Vec<Point2> {
+    let mut out = Vec::new();
+    let mut length = 0.0;
+    let mut last = here;
+    for &p in trajectory.iter().rev() {
+        if p.distance(here) < 0.2 && out.is_empty() {
+            continue;
+        }
+        length += last.distance(p);
+        out.push(p);
+        last = p;
+        if length >= tuning.retrace_m {
+            break;
+        }
+    }
+    if last.distance(here) < 1.0 {
+        out.clear();
+    }
+    out
+}
+
+/// Whether a robot at `pose` must give way to a robot at `other` (close, ahead of it).
+pub(super) fn gives_way(tuning: &Tuning, pose: usar_world::Pose2, other: Point2) -> bool {
+    let here = pose.position();
+    here.distance(other) < tuning.yield_distance_m
+        && usar_world::normalize_angle(here.bearing_to(other) - pose.theta).abs()
+            < tuning.yield_half_angle_rad
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turning_round_in_place_is_progress_and_spinning_on_the_spot_is_not() {
+        let at = |x: f64, theta: f64| Pose2::new(x, 0.0, theta);
+        // Standing still: stuck.
+        assert_eq!(
+            stuck_check(&Tuning::default(), at(0.0, 0.0), at(0.05, 0.1), 0.0),
+            (true, 0.0)
+        );
+        // Driving: progress, and the turning count starts again.
+        assert_eq!(
+            stuck_check(&Tuning::default(), at(0.0, 0.0), at(0.5, 0.0), 3.0),
+            (false, 0.0)
+        );
+        // Turning round at 0.36 rad/s, 1.44 rad a window: progress for the ~9 s it takes.
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 0.0), at(0.0, 1.44), 0.0);
+        assert!(!stuck);
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 1.44), at(0.0, 2.88), turned);
+        assert!(!stuck && (turned - 2.88).abs() < 1e-9);
+        // Spinning on: stuck once the turning passes a full turn.
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 2.88), at(0.0, 4.32), turned);
+        assert!(!stuck);
+        let (stuck, turned) = stuck_check(&Tuning::default(), at(0.0, 4.32), at(0.0, 5.76), turned);
+        assert!(!stuck && turned < std::f64::consts::TAU);
+        assert_eq!(
+            stuck_check(&Tuning::default(), at(0.0, 5.76), at(0.0, 7.2), turned),
+            (true, 0.0)
+        );
+    }
+}
