@@ -5,8 +5,8 @@
 //! heading ([`free_heading`]) that steers the target approach round furniture while the robot
 //! drives back along a searched link.
 
-use crate::build::scan::{ScanView, SideClearance};
 use serde::{Deserialize, Serialize};
+use usar_map::localization::{ScanView, SideClearance};
 use usar_sim::Velocity;
 use usar_world::Point2;
 

@@ -747,6 +747,14 @@ pub struct TeamRunArgs {
     /// has it; a furnished room then has one behind each piece of furniture).
     #[arg(long, default_value = "room")]
     pub candidates: String,
+    /// Where rooms and labels come from: `oracle` (the scene's room layer, as paper 002
+    /// assumes) or `segmented` (a room segmentation of the team's merged map as it grows).
+    #[arg(long, default_value = "oracle")]
+    pub semantics: String,
+    /// The pose robots map and drive at: `true` (the localization oracle, paper 002's
+    /// error-free mapping) or `estimated` (odometry corrected by scan matching).
+    #[arg(long, default_value = "true")]
+    pub localization: String,
     /// Stop once this fraction of the relevant area is known (e.g. 0.9).
     #[arg(long)]
     pub stop_at_relevant: Option<f64>,

@@ -185,14 +185,51 @@ pub struct TeamConfig {
     /// Where the robots believe they are when they map and drive.
     #[serde(default)]
     pub localization: Localization,
+    /// Where the rooms, their labels, areas, doors and visibility come from.
+    #[serde(default)]
+    pub semantics: Semantics,
+}
+
+/// The source of paper 002's semantic knowledge (rooms and their labels).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Semantics {
+    /// The semantic oracle: the scene's room layer. Paper 002 §3.1: "we assume the semantic
+    /// map as available, because we are only interested in its use. In practice, we manually
+    /// annotate with semantic labels the portions of the simulated environments"; its error
+    /// models (§4.4) perturb these true labels.
+    #[default]
+    Oracle,
+    /// The team's own estimate: a room segmentation of its merged map as it grows, before
+    /// every auction whose map changed.
+    Segmented,
+}
+
+impl Semantics {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Oracle => "oracle",
+            Self::Segmented => "segmented",
+        }
+    }
+
+    /// A source by name (`oracle`, `segmented`).
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "oracle" => Some(Self::Oracle),
+            "segmented" => Some(Self::Segmented),
+            _ => None,
+        }
+    }
 }
 
 /// The pose a team's robots map and drive at.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Localization {
-    /// The localization oracle: the true pose. Paper 002 does not say how its robots
-    /// localize; its maps are merged as if poses were exact.
+    /// The localization oracle: the true pose. Paper 002 §3.1: "Since we are not interested
+    /// in analyzing the quality of the resulting map, we assume that the mapping module is
+    /// error-free."
     #[default]
     True,
     /// The robot's own estimate: odometry corrected by scan matching.
@@ -238,6 +275,7 @@ impl Default for TeamConfig {
             rescan_turn_rad: 0.0,
             tuning: crate::tuning::Tuning::default(),
             localization: Localization::True,
+            semantics: Semantics::Oracle,
         }
     }
 }

@@ -35,7 +35,7 @@ pub mod travel_time;
 pub mod tuning;
 
 pub use self::config::{
-    Exploration, Localization, Radio, RobotFailure, Strategy, TeamConfig, Timing,
+    Exploration, Localization, Radio, RobotFailure, Semantics, Strategy, TeamConfig, Timing,
 };
 pub use self::mission::{MissionError, MissionHook, TeamController, TeamMission, VictimReport};
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};

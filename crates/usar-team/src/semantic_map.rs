@@ -3,16 +3,24 @@
 //! semantic mapping module perceives them — perfectly, or with one of the two error models of
 //! §4.4.
 //!
-//! The room layer is read from the scene (generated floors carry it; for real maps it is filled
-//! by a room segmentation before the mission starts). A map cell takes the room of the scene
-//! cell at its centre.
+//! Two sources of the room layer, named where a mission is set up:
+//! - the **semantic oracle** ([`SemanticMap::new`]): the scene's room layer (generated floors
+//!   carry it; for real maps it is filled by a room segmentation before the mission starts), as
+//!   paper 002 assumes its robots know it. A map cell takes the room of the scene cell at its
+//!   centre.
+//! - **segmented** ([`SemanticMap::segmented`], [`SemanticMap::resegment`]): the robots' own
+//!   estimate, a room segmentation of the team's merged map as it grows — its known free cells
+//!   split at doorways ([`usar_map::segmentation`]), labels by the known area, doors from the
+//!   segmentation, visibility as the free share of the known cells in the room's bounding box,
+//!   and the known fraction of a room as the share of its border that is not a frontier.
 
 use crate::criteria::Hypothesis;
 use rand::Rng;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
+use usar_map::segmentation::{Segmentation, SegmentationParams, segment_free_space};
 use usar_map::{CellClass, OccupancyGrid};
-use usar_world::{GridGeometry, RoomId, RoomLabel, Scene};
+use usar_world::{Grid, GridGeometry, RoomId, RoomLabel, Scene};
 
 /// How the semantic mapping module labels a candidate location's room (paper 002 §4.4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -100,6 +108,8 @@ pub struct SemanticMap {
     cell_area_m2: f64,
     errors: LabelErrors,
     rng: Pcg64Mcg,
+    /// Segmented maps: each room's known fraction as estimated from its border.
+    estimated_known: Option<Vec<f64>>,
 }
 
 impl SemanticMap {
@@ -174,7 +184,58 @@ impl SemanticMap {
             cell_area_m2,
             errors,
             rng,
+            estimated_known: None,
         }
+    }
+
+    /// A segmented semantic map on `geometry` that knows no room yet (see
+    /// [`SemanticMap::resegment`]).
+    pub fn segmented(
+        geometry: &GridGeometry,
+        hypothesis: &Hypothesis,
+        errors: LabelErrors,
+        rng: Pcg64Mcg,
+    ) -> Self {
+        let mut map = Self::new(
+            &Scene::empty("segmented", *geometry),
+            geometry,
+            hypothesis,
+            errors,
+            rng,
+        );
+        map.estimated_known = Some(Vec::new());
+        map
+    }
+
+    /// Replaces the room layer with a segmentation of `merged`'s known free cells (the map
+    /// must have this map's geometry); the label errors and their random stream carry on.
+    pub fn resegment(
+        &mut self,
+        merged: &OccupancyGrid,
+        hypothesis: &Hypothesis,
+        params: &SegmentationParams,
+    ) {
+        let g = *merged.geometry();
+        let free = Grid::from_vec(
+            g,
+            (0..g.len())
+                .map(|i| merged.class_at_index(i) == CellClass::Free)
+                .collect(),
+        )
+        .expect("one value per cell");
+        let seg = segment_free_space(&free, params);
+        let mut layer = Scene::empty("segmented", g);
+        seg.apply_to(&mut layer);
+        let (visibility, known) = estimate_rooms(&seg, merged);
+        let rng = self.rng.clone();
+        let mut next = Self::new(&layer, &g, hypothesis, self.errors, rng);
+        for (room, v) in next.rooms.iter_mut().zip(visibility) {
+            room.visibility = v;
+        }
+        next.estimated_known = Some(known);
+        let all: Vec<u32> = (0..g.len() as u32).collect();
+        next.update_from(merged, &all);
+        *self = next;
     }
 
     /// Applies the merged map's class changes.
@@ -213,13 +274,31 @@ impl SemanticMap {
             .and_then(|&s| (s != 0).then(|| usize::from(s) - 1))
     }
 
+    /// The room of map cell `cell` (on this map's `geometry`), or of the nearest cell within
+    /// two cells that has one (a candidate may stand in a doorway's wall gap).
+    pub fn room_near(&self, geometry: &GridGeometry, cell: usar_world::Cell) -> Option<usize> {
+        (0..=2).find_map(|r: i32| {
+            (-r..=r)
+                .flat_map(|dr| (-r..=r).map(move |dc| (dc, dr)))
+                .filter(|&(dc, dr)| dc.abs().max(dr.abs()) == r)
+                .find_map(|(dc, dr)| {
+                    let i = geometry
+                        .checked_index(usar_world::Cell::new(cell.col + dc, cell.row + dr))?;
+                    self.room_of(i)
+                })
+        })
+    }
+
     pub fn rooms(&self) -> &[RoomFacts] {
         &self.rooms
     }
 
     /// Known fraction of room `k`, in [0, 1].
     pub fn perceived_fraction(&self, k: usize) -> f64 {
-        f64::from(self.room_known[k]) / f64::from(self.room_cells[k].max(1))
+        match &self.estimated_known {
+            Some(known) => known[k],
+            None => f64::from(self.room_known[k]) / f64::from(self.room_cells[k].max(1)),
+        }
     }
 
     /// The label of room `k` as the semantic mapping module reports it now (one classification:
@@ -265,4 +344,64 @@ impl SemanticMap {
             self.relevant_known as f64 / self.relevant_cells as f64
         }
     }
+}
+
+/// Per segment of `merged`: visibility (free share of the known cells in its bounding box) and
+/// known fraction (share of its border cells with no unknown 4-neighbour).
+fn estimate_rooms(seg: &Segmentation, merged: &OccupancyGrid) -> (Vec<f64>, Vec<f64>) {
+    let g = *merged.geometry();
+    let n = seg.segments.len();
+    let mut bbox = vec![(i32::MAX, i32::MAX, i32::MIN, i32::MIN); n];
+    let mut border = vec![0u32; n];
+    let mut open = vec![0u32; n];
+    for i in 0..g.len() {
+        let id = seg.room_id.as_slice()[i];
+        if id == 0 {
+            continue;
+        }
+        let k = usize::from(id) - 1;
+        let c = g.cell_of_index(i);
+        let b = &mut bbox[k];
+        *b = (
+            b.0.min(c.col),
+            b.1.min(c.row),
+            b.2.max(c.col),
+            b.3.max(c.row),
+        );
+        let mut on_border = false;
+        let mut unknown = false;
+        for (dc, dr) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+            let m = usar_world::Cell::new(c.col + dc, c.row + dr);
+            if seg.room_id.get(m).is_none_or(|&other| other != id) {
+                on_border = true;
+                unknown |= !g.contains(m) || merged.class(m) == CellClass::Unknown;
+            }
+        }
+        if on_border {
+            border[k] += 1;
+            open[k] += u32::from(unknown);
+        }
+    }
+    let visibility = bbox
+        .iter()
+        .map(|&(c0, r0, c1, r1)| {
+            let (mut free, mut occupied) = (0u32, 0u32);
+            for row in r0..=r1 {
+                for col in c0..=c1 {
+                    match merged.class(usar_world::Cell::new(col, row)) {
+                        CellClass::Free => free += 1,
+                        CellClass::Occupied => occupied += 1,
+                        CellClass::Unknown => {}
+                    }
+                }
+            }
+            f64::from(free) / f64::from((free + occupied).max(1))
+        })
+        .collect();
+    let known = border
+        .iter()
+        .zip(&open)
+        .map(|(&b, &o)| 1.0 - f64::from(o) / f64::from(b.max(1)))
+        .collect();
+    (visibility, known)
 }

@@ -6,7 +6,7 @@ use crate::coordination::Coordination;
 use crate::criteria::Hypothesis;
 use crate::room_candidates::CandidateGrouping;
 use crate::semantic_map::LabelErrors;
-use crate::{Exploration, Radio, RobotFailure, Strategy, TeamConfig};
+use crate::{Exploration, Localization, Radio, RobotFailure, Semantics, Strategy, TeamConfig};
 
 /// The robot of a team run when none is named: the wheeled robot at paper 002's pace
 /// ([`usar_sim::RobotSpec::wheeled_paper_pace`]).
@@ -23,6 +23,10 @@ pub struct TeamSetup<'a> {
     pub minutes: f64,
     pub label_errors: &'a str,
     pub candidates: &'a str,
+    /// `oracle` or `segmented` ([`Semantics`]).
+    pub semantics: &'a str,
+    /// `true` or `estimated` ([`Localization`]).
+    pub localization: &'a str,
     pub stop_at_relevant: Option<f64>,
     pub merge_period_s: f64,
     pub radio: Radio,
@@ -56,6 +60,18 @@ impl TeamSetup<'_> {
                 self.candidates
             )
         })?;
+        let semantics = Semantics::parse(self.semantics).ok_or_else(|| {
+            format!(
+                "semantics: found {:?}, expected oracle or segmented",
+                self.semantics
+            )
+        })?;
+        let localization = Localization::parse(self.localization).ok_or_else(|| {
+            format!(
+                "localization: found {:?}, expected true or estimated",
+                self.localization
+            )
+        })?;
         if !(self.minutes.is_finite() && self.minutes > 0.0) {
             return Err(format!(
                 "minutes: found {}, expected a positive number",
@@ -83,6 +99,8 @@ impl TeamSetup<'_> {
         config.timing.merge_period_s = self.merge_period_s;
         config.radio = self.radio.clone();
         config.failures = self.failures.clone();
+        config.semantics = semantics;
+        config.localization = localization;
         Ok(config)
     }
 }

@@ -105,7 +105,7 @@ pub struct BuildConfig {
     /// new key scan adds its own small error).
     pub keyframe_angle_rad: f64,
     /// Match against the robot's own map of all the scans it took before
-    /// ([`crate::build::scan_map`]) instead of the last key scan. Off by default: on the
+    /// ([`usar_map::localization::ScanMap`]) instead of the last key scan. Off by default: on the
     /// generated course, whose slopes and stairs the horizontal laser sees as walls that move
     /// as the robot pitches, the map does worse (measured, seeds 1–5: largest position error
     /// 0.3–1.2 m and 89 collisions on seed 3, against 0.1–0.3 m and none with key scans); on

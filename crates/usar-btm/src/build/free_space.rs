@@ -1,7 +1,7 @@
 //! Free-space nodes (paper 004 §III-A-1, Fig. 3): where L_l > C₁ or L_r > C₁ in the grey
 //! strip the robot is in an open area; one node marks its entrance, another its exit.
 
-use crate::build::scan::SideClearance;
+use usar_map::localization::SideClearance;
 use usar_world::Point2;
 
 /// Whether the strip around the robot shows free space on either side (L_l > C₁ or

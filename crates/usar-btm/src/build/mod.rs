@@ -7,8 +7,8 @@
 //! - [`free_space`]: entrance and exit of open areas from L_l, L_r against C₁;
 //! - [`obstacle`]: the tilted laser's obstacle profile → slope and stairs nodes;
 //! - [`links`]: what is measured along a link, and the map writer;
-//! - [`localization`]: odometry corrected by scan matching against the robot's own map
-//!   ([`scan_map`]) (node coordinates);
+//! - [`usar_map::localization`]: odometry corrected by scan matching against a key scan or
+//!   the robot's own map (node coordinates), and the scan in the robot frame;
 //! - [`planner`]: routes on the BTM back to un-searched links;
 //! - [`crate::locomotion`]: the run modes of §IV and Fig. 8.
 //!
@@ -27,11 +27,8 @@ pub mod divergence;
 mod explorer;
 pub mod free_space;
 pub mod links;
-pub mod localization;
 pub mod obstacle;
 pub mod planner;
-pub mod scan;
-pub mod scan_map;
 
 pub use self::config::BuildConfig;
 

@@ -33,6 +33,8 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
         minutes: args.minutes,
         label_errors: &args.label_errors,
         candidates: &args.candidates,
+        semantics: &args.semantics,
+        localization: &args.localization,
         stop_at_relevant: args.stop_at_relevant,
         merge_period_s: args.merge_period,
         radio: Radio {

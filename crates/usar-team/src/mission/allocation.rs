@@ -159,6 +159,7 @@ impl TeamController {
     /// coordination method (robots not bidding keep their targets and count towards i(p)), then
     /// a path on the map to each new target.
     pub(super) fn auction(&mut self, who: &[usize]) {
+        self.refresh_semantics();
         let now = self.now;
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
@@ -400,13 +401,10 @@ impl TeamController {
                                 ideal_robots: ideal[c],
                                 room_known: rooms[c].map(|k| self.semantic.perceived_fraction(k)),
                             });
-                            let label = self.semantic.room_of(g.index(target)).or(rooms[c]);
-                            if let Some(k) = label {
-                                *self
-                                    .assigned_per_label
-                                    .entry(self.semantic.rooms()[k].label)
-                                    .or_default() += 1;
-                            }
+                            self.assignments.push(Assignment {
+                                target,
+                                candidate: cands[c].cell,
+                            });
                             let agent = &mut self.agents[i];
                             agent.follower = PathFollower::new(waypoints);
                             agent.target = Some(target);
@@ -429,19 +427,9 @@ impl TeamController {
         }
     }
 
-    /// The room of a map cell, or of the nearest cell within two cells that has one (a
-    /// candidate may stand in a doorway's wall gap).
+    /// The room of a map cell, or of the nearest cell within two cells that has one.
     pub(super) fn room_near(&self, cell: Cell) -> Option<usize> {
-        let g = self.base.merged.geometry();
-        (0..=2).find_map(|r: i32| {
-            (-r..=r)
-                .flat_map(|dr| (-r..=r).map(move |dc| (dc, dr)))
-                .filter(|&(dc, dr)| dc.abs().max(dr.abs()) == r)
-                .find_map(|(dc, dr)| {
-                    let i = g.checked_index(Cell::new(cell.col + dc, cell.row + dr))?;
-                    self.semantic.room_of(i)
-                })
-        })
+        self.semantic.room_near(self.base.merged.geometry(), cell)
     }
 }
 

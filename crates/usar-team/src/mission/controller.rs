@@ -6,6 +6,8 @@
 //! through the localization oracle when the host has it on.
 
 use super::*;
+use crate::config::Semantics;
+use usar_map::segmentation::SegmentationParams;
 use usar_sim::host::{Controller, FleetIo};
 
 pub(super) struct Agent {
@@ -52,6 +54,14 @@ pub struct VictimReport {
     pub time_s: f64,
 }
 
+/// A target the team gave a robot at an auction, and the candidate location it stood for: the
+/// evaluator counts assignments per true room label from them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Assignment {
+    pub target: Cell,
+    pub candidate: Cell,
+}
+
 /// Paper 002's team (or the nearest-frontier baseline) driving its fleet.
 pub struct TeamController {
     pub(super) config: TeamConfig,
@@ -68,7 +78,8 @@ pub struct TeamController {
     /// b(p, r) of the current bidder's paths, memoised along its distance field.
     pub(super) travel_times: TravelTimes,
     pub(super) strategy_rng: Pcg64Mcg,
-    pub(super) assigned_per_label: BTreeMap<RoomLabel, u32>,
+    /// Auction assignments since the evaluator last took them.
+    pub(super) assignments: Vec<Assignment>,
     /// Candidates a robot reached (auctions): not offered to anyone for a while.
     pub(super) visited: Vec<(Cell, f64)>,
     pub(super) allocations: Vec<crate::outcome::Allocation>,
@@ -87,6 +98,8 @@ pub struct TeamController {
     explored: bool,
     /// Merges done so far (the evaluator follows the merged map's changes by it).
     merges: u64,
+    /// With segmented semantics: the merge the rooms were last segmented after.
+    segmented_after: Option<u64>,
     reports: Vec<VictimReport>,
 }
 
@@ -148,7 +161,7 @@ impl TeamController {
             bid_field: DistanceField::new(),
             travel_times: TravelTimes::new(),
             strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
-            assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
+            assignments: Vec::new(),
             visited: Vec::new(),
             allocations: Vec::new(),
             team_sizes,
@@ -159,6 +172,7 @@ impl TeamController {
             idle_since: None,
             explored: false,
             merges: 0,
+            segmented_after: None,
             reports: Vec::new(),
         }
     }
@@ -176,6 +190,28 @@ impl TeamController {
     /// How many times the base station has merged the robots' maps.
     pub fn merges(&self) -> u64 {
         self.merges
+    }
+
+    /// With segmented semantics, segments the merged map again when it changed since the
+    /// last time (the i(p) inferred per room start afresh with the new rooms).
+    pub(super) fn refresh_semantics(&mut self) {
+        if self.config.semantics != Semantics::Segmented
+            || self.segmented_after == Some(self.merges)
+        {
+            return;
+        }
+        self.segmented_after = Some(self.merges);
+        self.semantic.resegment(
+            &self.base.merged,
+            &self.config.exploration.hypothesis,
+            &SegmentationParams::default(),
+        );
+        self.team_sizes = vec![None; self.semantic.rooms().len()];
+    }
+
+    /// The auction assignments since the last call.
+    pub fn take_assignments(&mut self) -> Vec<Assignment> {
+        std::mem::take(&mut self.assignments)
     }
 
     /// The victim reports since the last call.

@@ -7,7 +7,7 @@
 use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
 use crate::bids::{Measures, TeamSizer};
-use crate::config::Localization;
+use crate::config::{Localization, Semantics};
 use crate::config::{Strategy, TeamConfig};
 use crate::coverage::CoverageCounter;
 use crate::driver::{PathFollower, Recovery, RecoveryStep};
@@ -33,7 +33,7 @@ mod controller;
 mod driving;
 mod live;
 
-pub use self::controller::{TeamController, VictimReport};
+pub use self::controller::{Assignment, TeamController, VictimReport};
 use self::driving::{gives_way, stuck_check};
 
 /// Random streams of the team (robots use streams 0, 1, … of the simulation's seed; the radio
@@ -93,6 +93,8 @@ pub struct TeamMission {
     /// Merges of the team's map taken into the evaluation.
     merges_seen: u64,
     victims_seen: Vec<VictimSighting>,
+    /// Auction assignments per true room label of their target.
+    assigned_per_label: BTreeMap<RoomLabel, u32>,
     samples: Vec<Sample>,
     relevant_target: f64,
     time_to_relevant_s: Option<f64>,
@@ -205,13 +207,17 @@ impl TeamMission {
         for f in &config.failures {
             host.schedule_failure(host.fleet(fleet)[f.robot], f.at_s);
         }
-        let semantic_oracle = SemanticMap::new(
-            &scene,
-            &geometry,
-            &config.exploration.hypothesis,
-            config.exploration.label_errors,
-            Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM)),
-        );
+        let label_rng = Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM));
+        let x = &config.exploration;
+        let semantic = match config.semantics {
+            // The named semantic oracle: the scene's room layer.
+            Semantics::Oracle => {
+                SemanticMap::new(&scene, &geometry, &x.hypothesis, x.label_errors, label_rng)
+            }
+            Semantics::Segmented => {
+                SemanticMap::segmented(&geometry, &x.hypothesis, x.label_errors, label_rng)
+            }
+        };
         // The evaluation's copy draws no labels: its random stream is never used.
         let relevant = SemanticMap::new(
             &scene,
@@ -220,14 +226,7 @@ impl TeamMission {
             config.exploration.label_errors,
             Pcg64Mcg::seed_from_u64(0),
         );
-        let team = TeamController::new(
-            config.clone(),
-            starts,
-            geometry,
-            semantic_oracle,
-            measures,
-            seed,
-        );
+        let team = TeamController::new(config.clone(), starts, geometry, semantic, measures, seed);
         Ok(Self {
             relevant_target: config.stop_at_relevant.unwrap_or(DEFAULT_RELEVANT_TARGET),
             coverage: CoverageCounter::new(&scene, base, &geometry),
@@ -238,6 +237,7 @@ impl TeamMission {
             relevant,
             merges_seen: 0,
             victims_seen: Vec::new(),
+            assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
             samples: Vec::new(),
             time_to_relevant_s: None,
         })
@@ -274,6 +274,19 @@ impl TeamMission {
                 && self.relevant.relevant_fraction() >= self.relevant_target
             {
                 self.time_to_relevant_s = Some(self.host.time_s());
+            }
+        }
+        let g = *self.team.base.merged.geometry();
+        for a in self.team.take_assignments() {
+            let room = self
+                .relevant
+                .room_of(g.index(a.target))
+                .or_else(|| self.relevant.room_near(&g, a.candidate));
+            if let Some(k) = room {
+                *self
+                    .assigned_per_label
+                    .entry(self.relevant.rooms()[k].label)
+                    .or_default() += 1;
             }
         }
         let truth = self.host.evaluator();
@@ -317,7 +330,7 @@ impl TeamMission {
         let assigned_per_label = if at_start {
             RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect()
         } else {
-            self.team.assigned_per_label.clone()
+            self.assigned_per_label.clone()
         };
         self.samples.push(Sample {
             time_s: truth.time_s(),
@@ -395,7 +408,7 @@ impl TeamMission {
             relevant_total_m2: self.relevant.relevant_total_m2(),
             time_to_relevant_s: self.time_to_relevant_s,
             relevant_target: self.relevant_target,
-            assigned_per_label: team.assigned_per_label,
+            assigned_per_label: self.assigned_per_label,
             allocations: team.allocations,
             merged_map: team.base.merged,
         }

@@ -82,6 +82,8 @@ impl TeamRunner {
             minutes: config.float("minutes").unwrap_or(20.0),
             label_errors: config.text("label_errors").unwrap_or("perfect"),
             candidates: config.text("candidates").unwrap_or("room"),
+            semantics: config.text("semantics").unwrap_or("oracle"),
+            localization: config.text("localization").unwrap_or("true"),
             stop_at_relevant: config.float("stop_at_relevant").filter(|&f| f > 0.0),
             merge_period_s: config.float("merge_period_s").unwrap_or(2.5),
             radio: Radio {
@@ -152,6 +154,18 @@ impl Runner for TeamRunner {
                 "room",
                 &["room", "cluster"],
                 "candidate locations: one per room, or one per frontier cluster (paper 002 §3.1)",
+            ),
+            text(
+                "semantics",
+                "oracle",
+                &["oracle", "segmented"],
+                "rooms and labels: the scene's (the paper's oracle) or segmented from the team's map",
+            ),
+            text(
+                "localization",
+                "true",
+                &["true", "estimated"],
+                "poses robots map at: true (the paper's oracle) or odometry + scan matching",
             ),
             float("minutes", 20.0, 1440.0, "simulated time limit"),
             float(

@@ -15,12 +15,10 @@ use super::divergence::{
 };
 use super::free_space::{ExitTracker, follow_right_wall, is_free_space};
 use super::links::{LinkMeasures, LinkRecorder, LinkSample, MapWriter};
-use super::localization::Localizer;
 use super::obstacle::{
     FloorHit, ObstacleProfile, ObstacleShape, Passability, floor_hits, track_sample,
 };
 use super::planner::{open_links, route_to_unsearched};
-use super::scan::{ScanView, SideClearance};
 use super::{
     BLOCKED_FOR, BuildConfig, BuildError, BuildOutcome, IMPASSABLE_FOR, StopReason,
     TrajectorySample, count_nodes,
@@ -33,6 +31,7 @@ use crate::model::{Btm, kind, subtype};
 use crate::store::BtmStore;
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
+use usar_map::localization::{Localizer, ScanView, SideClearance};
 use usar_sim::sensors::LaserScan;
 use usar_sim::{RobotId, RobotSpec, SimConfig, Simulation, Velocity};
 use usar_world::{Point2, Pose2, Scene, normalize_angle};

@@ -1,8 +1,11 @@
-//! Where the robot thinks it is: odometry, corrected by matching each horizontal scan against
-//! a key scan (point-to-line ICP, Censi's PL-ICP without the closed form), or — with
-//! [`BuildConfig::scan_map`](crate::build::BuildConfig::scan_map) — against the robot's own
-//! map of all the scans it took before ([`ScanMap`]). Node coordinates are taken in this
-//! estimate; the simulator's true pose is never read.
+//! Where a robot thinks it is: its odometry, corrected by scan matching. Each horizontal laser
+//! scan is matched by point-to-line ICP (Censi's PL-ICP without the closed form: Gauss–Newton
+//! on the distances of the scan's points to the lines through their partners' neighbours)
+//! either against a key scan taken earlier, or — with [`Localizer::with_map`] — against the
+//! robot's own map of all the scans it took before ([`ScanMap`]). Only odometry and the
+//! ranges are read: the pose stored in a [`LaserScan`](usar_readings::LaserScan) is never
+//! used. The BTM builder (`usar-btm`) takes its node coordinates in this estimate, and the
+//! exploration team (`usar-team`) can use it in place of the localization oracle.
 //!
 //! Odometry alone drifts by several degrees of heading over a course (the simulator's
 //! rotation noise is 0.02 rad per √rad turned), which would put far nodes metres away.
@@ -10,9 +13,100 @@
 //! behind) as a wall that moves with the robot, and ICP would hold the robot back: odometry
 //! alone carries it across. Back on level floor, the heading is corrected from the direction
 //! of the straight walls to its sides, compared with the last key scan before the obstacle.
+//!
+//! - [`Localizer`]: [`new`](Localizer::new), [`with_map`](Localizer::with_map),
+//!   [`predict`](Localizer::predict) with each odometry reading,
+//!   [`correct`](Localizer::correct) with each scan, [`pose`](Localizer::pose);
+//! - [`ScanView`]: a [`LaserScan`](usar_readings::LaserScan) as points in the robot frame
+//!   ([`ScanView::from_scan`]), and the clearances measured on it ([`SideClearance`]);
+//! - [`ScanMap`]: the robot's own map of scan outlines, matched against;
+//! - [`compose`] and [`relative`]: poses in each other's frames.
+//!
+//! # Example
+//!
+//! A robot in a 6 m × 4 m room: its odometry under-reports a move by 5 cm and 0.05 rad, and
+//! the scan it takes there pulls the estimate back onto the truth.
+//!
+//! ```
+//! use std::f64::consts::{PI, TAU};
+//! use usar_map::localization::{Localizer, ScanView, compose, relative};
+//! use usar_readings::LaserScan;
+//! use usar_world::{Pose2, normalize_angle};
+//!
+//! // The room's walls, as segments (x₀, y₀) – (x₁, y₁).
+//! const WALLS: [((f64, f64), (f64, f64)); 4] = [
+//!     ((0.0, 0.0), (6.0, 0.0)),
+//!     ((6.0, 0.0), (6.0, 4.0)),
+//!     ((6.0, 4.0), (0.0, 4.0)),
+//!     ((0.0, 4.0), (0.0, 0.0)),
+//! ];
+//!
+//! /// The scan a robot really at `truth` takes: 360 beams, one per degree from behind it,
+//! /// cast against the walls. `stamped` is the pose it stamps the scan with (its odometry).
+//! fn scan(truth: Pose2, stamped: Pose2) -> LaserScan {
+//!     let increment = TAU / 360.0;
+//!     let ranges_m = (0..360)
+//!         .map(|i| {
+//!             let (s, c) = (truth.theta - PI + f64::from(i) * increment).sin_cos();
+//!             let mut nearest = f64::INFINITY;
+//!             for ((ax, ay), (bx, by)) in WALLS {
+//!                 // truth + t·(c, s) = a + u·(b − a), with t > 0 and 0 ≤ u ≤ 1.
+//!                 let (ex, ey) = (bx - ax, by - ay);
+//!                 let (wx, wy) = (ax - truth.x, ay - truth.y);
+//!                 let det = ex * s - ey * c;
+//!                 if det.abs() < 1e-12 {
+//!                     continue;
+//!                 }
+//!                 let t = (ex * wy - ey * wx) / det;
+//!                 let u = (c * wy - s * wx) / det;
+//!                 if t > 0.0 && (0.0..=1.0).contains(&u) {
+//!                     nearest = nearest.min(t);
+//!                 }
+//!             }
+//!             nearest as f32
+//!         })
+//!         .collect();
+//!     LaserScan {
+//!         pose: stamped,
+//!         angle_min_rad: -PI,
+//!         angle_increment_rad: increment,
+//!         max_range_m: 20.0,
+//!         ranges_m,
+//!     }
+//! }
+//!
+//! // Start: the estimate and the odometry agree, and the first scan is the key scan.
+//! let start = Pose2::new(2.0, 2.0, 0.1);
+//! let mut localizer = Localizer::new(start, start, true, 1.0, 0.5);
+//! localizer.correct(&ScanView::from_scan(&scan(start, start)), false);
+//!
+//! // The robot drives to `truth`; odometry reports 5 cm less travel and 0.05 rad less turn.
+//! let truth = Pose2::new(2.5, 2.1, 0.2);
+//! let odometry = Pose2::new(2.45, 2.1, 0.15);
+//! localizer.predict(odometry);
+//! let predicted = localizer.pose();
+//! localizer.correct(&ScanView::from_scan(&scan(truth, odometry)), false);
+//! let corrected = localizer.pose();
+//!
+//! let off = |p: Pose2| p.position().distance(truth.position());
+//! let turned_off = |p: Pose2| normalize_angle(p.theta - truth.theta).abs();
+//! assert!(off(predicted) > 0.04 && turned_off(predicted) > 0.04);
+//! assert!(off(corrected) < 0.2 * off(predicted), "{corrected:?}");
+//! assert!(turned_off(corrected) < 0.2 * turned_off(predicted), "{corrected:?}");
+//! assert_eq!(localizer.matched, 1);
+//!
+//! // The move since the start, in the start's frame, and back.
+//! let moved = relative(start, corrected);
+//! assert!(compose(start, moved).position().distance(corrected.position()) < 1e-12);
+//! ```
 
-use crate::build::scan::ScanView;
-use crate::build::scan_map::{ScanMap, solve3};
+pub mod scan;
+pub mod scan_map;
+
+pub use self::scan::{ScanView, SideClearance};
+pub use self::scan_map::ScanMap;
+
+use self::scan_map::solve3;
 use usar_world::{Point2, Pose2, normalize_angle};
 
 /// a ⊕ b: pose `b` given in the frame of `a`, expressed in the frame `a` is given in.
@@ -401,7 +495,7 @@ fn match_scan(key: &KeyScan, scan: &ScanView, guess: Pose2) -> Option<Pose2> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use usar_sim::sensors::LaserScan;
+    use usar_readings::LaserScan;
 
     /// A scan of a 6 × 4 m box seen from `pose` (box corners (0,0)–(6,4)).
     fn box_scan(pose: Pose2) -> ScanView {

@@ -2,7 +2,7 @@
 //! it: the minimum lateral distances L_l and L_r inside a grey strip (paper 004 Figs. 3, 9)
 //! and ranges along a bearing.
 
-use usar_sim::sensors::LaserScan;
+use usar_readings::LaserScan;
 use usar_world::Point2;
 
 /// One scan as points in the robot frame. Built only from the ranges and the beam angles
