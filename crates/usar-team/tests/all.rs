@@ -1,5 +1,6 @@
 mod driver;
 mod explore;
+mod ground_truth;
 mod mcdm;
 mod semantic;
 mod team_size;
