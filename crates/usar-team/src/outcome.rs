@@ -75,6 +75,9 @@ pub struct RobotOutcome {
     pub robot: usize,
     pub distance_m: f64,
     pub collisions: u32,
+    /// The largest distance between where the team believed the robot was and where it was,
+    /// metres (0 under the localization oracle).
+    pub max_pose_error_m: f64,
     /// Positions once per simulated second.
     #[serde(skip)]
     pub trajectory: Vec<Point2>,

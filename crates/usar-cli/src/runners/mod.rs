@@ -19,7 +19,7 @@ pub fn named(name: &str) -> Option<&'static dyn Runner> {
 }
 
 /// The built-in campaign presets: name and file text (the files live in `campaigns/`).
-pub const PRESETS: [(&str, &str); 7] = [
+pub const PRESETS: [(&str, &str); 8] = [
     ("smoke", include_str!("../../../../campaigns/smoke.toml")),
     (
         "team-tables",
@@ -40,6 +40,10 @@ pub const PRESETS: [(&str, &str); 7] = [
     (
         "team-fig15",
         include_str!("../../../../campaigns/team-fig15.toml"),
+    ),
+    (
+        "team-oracles",
+        include_str!("../../../../campaigns/team-oracles.toml"),
     ),
     (
         "maxq-eval",

@@ -6,9 +6,15 @@
 //! through the localization oracle when the host has it on.
 
 use super::*;
-use crate::config::Semantics;
+use crate::config::{Localization, Semantics};
+use usar_map::localization::{Localizer, ScanView};
 use usar_map::segmentation::SegmentationParams;
 use usar_sim::host::{Controller, FleetIo};
+
+/// Key scans of the localizer (the BTM builder's defaults; with a map to match against they
+/// only pace its bookkeeping).
+const KEYFRAME_DISTANCE_M: f64 = 1.0;
+const KEYFRAME_ANGLE_RAD: f64 = std::f64::consts::PI;
 
 pub(super) struct Agent {
     /// Where the controller believes the robot is, refreshed at every step.
@@ -42,6 +48,9 @@ pub(super) struct Agent {
     pub(super) linked: bool,
     /// With a limited radio: the base station's copy of this robot's map as last received.
     pub(super) uploaded: Option<OccupancyGrid>,
+    /// Without the localization oracle: odometry corrected by matching each scan against the
+    /// robot's own map.
+    localizer: Option<Localizer>,
 }
 
 /// A warm region with a human signature one of the team's robots saw: the team reports it, the
@@ -137,6 +146,12 @@ impl TeamController {
                 linked: true,
                 uploaded: (config.radio != crate::config::Radio::default())
                     .then(|| OccupancyGrid::new(geometry, params)),
+                localizer: (config.localization == Localization::Estimated).then(|| {
+                    // Paper 002 §3.1: "a new acquired scan is aligned with the current map
+                    // (using odometry as initial guess)". The robot knows where it started.
+                    Localizer::new(pose, pose, true, KEYFRAME_DISTANCE_M, KEYFRAME_ANGLE_RAD)
+                        .with_map()
+                }),
             })
             .collect();
         // Occupied cells stand for walls whose faces are half a cell nearer than their centres.
@@ -256,6 +271,12 @@ impl TeamController {
             }
             a.last_scan = Some(a.pose);
             io.laser(k, &mut a.scan);
+            if let Some(loc) = &mut a.localizer {
+                // Team robots drive on level floors: no scan is taken on an obstacle.
+                loc.correct(&ScanView::from_scan(&a.scan), false);
+                a.pose = loc.pose();
+                a.scan.pose = a.pose;
+            }
             a.map.integrate_scan(&a.scan);
         }
     }

@@ -93,6 +93,8 @@ pub struct TeamMission {
     /// Merges of the team's map taken into the evaluation.
     merges_seen: u64,
     victims_seen: Vec<VictimSighting>,
+    /// Per robot: the largest error of the team's pose estimate so far, metres.
+    max_pose_error_m: Vec<f64>,
     /// Auction assignments per true room label of their target.
     assigned_per_label: BTreeMap<RoomLabel, u32>,
     samples: Vec<Sample>,
@@ -237,6 +239,7 @@ impl TeamMission {
             relevant,
             merges_seen: 0,
             victims_seen: Vec::new(),
+            max_pose_error_m: vec![0.0; starts.len()],
             assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
             samples: Vec::new(),
             time_to_relevant_s: None,
@@ -290,6 +293,15 @@ impl TeamMission {
             }
         }
         let truth = self.host.evaluator();
+        for ((a, &id), worst) in self
+            .team
+            .agents
+            .iter()
+            .zip(self.host.fleet(self.fleet))
+            .zip(&mut self.max_pose_error_m)
+        {
+            *worst = worst.max(a.pose.position().distance(truth.robot(id).pose.position()));
+        }
         for report in self.team.take_reports() {
             if let Some(HeatTruth::Victim(id)) = truth.truth_of(report.reading)
                 && !self.victims_seen.iter().any(|v| v.victim_id == id)
@@ -399,6 +411,7 @@ impl TeamMission {
                         robot: k,
                         distance_m: r.distance_m,
                         collisions: r.collisions,
+                        max_pose_error_m: self.max_pose_error_m[k],
                         trajectory: a.trajectory.clone(),
                     }
                 })
