@@ -38,7 +38,8 @@ use crate::store::{BtmError, BtmStore};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
-use usar_sim::RobotSpec;
+use usar_sim::host::{Host, Oracles};
+use usar_sim::{RobotSpec, SimConfig};
 use usar_world::{Pose2, Scene};
 
 /// Key in a node's `extra` naming the robot that found the obstacle impassable.
@@ -147,12 +148,73 @@ pub fn build_btm_observed(
         .ok_or_else(|| BuildError::NoStartPose {
             scene: scene.name.clone(),
         })?;
-    let mut explorer = explorer::Explorer::new(scene, robot, config, seed, start, store)?;
-    let stop = explorer.run(on_progress)?;
-    Ok(explorer.into_outcome(stop))
+    let name = scene.name.clone();
+    let sim = SimConfig {
+        dt_s: config.dt_s,
+        robots_collide: false,
+        robots_in_lasers: false,
+    };
+    // The robot knows nothing but its readings: no oracle.
+    let mut host = Host::new(scene, sim, seed, Oracles::default());
+    let fleet = host
+        .add_fleet(&[(robot.clone(), start)])
+        .map_err(|source| BuildError::Placement {
+            scene: name,
+            source,
+        })?;
+    let id = host.fleet(fleet)[0];
+    let mut explorer = explorer::Explorer::new(robot, config, start, store);
+    let mut truth = Vec::new();
+    let mut reported_s = 0.0;
+    let stop = loop {
+        host.decide(fleet, &mut explorer);
+        let now = host.time_s();
+        let pose = host.evaluator().robot(id).pose;
+        truth.push(pose);
+        if let Some(stop) = explorer.take_finished() {
+            break stop?;
+        }
+        if now >= reported_s + 0.25 {
+            reported_s = (now * 4.0).floor() / 4.0;
+            on_progress(now, pose, explorer.btm());
+        }
+        host.advance();
+    };
+    let evaluator = host.evaluator();
+    let robot = evaluator.robot(id);
+    let (scan_matches, scan_match_rejections) = explorer.scan_matches();
+    let trajectory: Vec<TrajectorySample> = explorer
+        .trajectory
+        .iter()
+        .zip(&truth)
+        .map(|(s, &truth)| TrajectorySample {
+            time_s: s.time_s,
+            estimated: s.estimated,
+            truth,
+            mode: s.mode,
+            contact: s.contact,
+        })
+        .collect();
+    let btm = explorer.into_btm();
+    Ok(BuildOutcome {
+        nodes_by_type: count_nodes(&btm),
+        searched_links: btm.links.iter().filter(|l| l.searched).count(),
+        unsearched_links: btm.links.iter().filter(|l| !l.searched).count(),
+        time_s: evaluator.time_s(),
+        distance_m: robot.distance_m,
+        collisions: robot.collisions,
+        max_position_error_m: trajectory
+            .iter()
+            .map(|s| s.estimated.position().distance(s.truth.position()))
+            .fold(0.0, f64::max),
+        scan_matches,
+        scan_match_rejections,
+        trajectory,
+        stop,
+        btm,
+    })
 }
 
-/// Counts nodes by "kind/subtype" (or "kind" without subtype).
 pub fn count_nodes(btm: &Btm) -> BTreeMap<String, usize> {
     let mut counts = BTreeMap::new();
     for n in &btm.nodes {

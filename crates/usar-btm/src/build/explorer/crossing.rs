@@ -146,7 +146,7 @@ impl Explorer<'_> {
         self.mode = RunMode::ObstacleCrossing;
         let level = self.inclination_rad < self.cfg.level_attitude_rad;
         let robot_along = self.driven_m - c.start_driven_m;
-        if self.sim.robot(self.id).in_contact() {
+        if self.contact {
             c.contact_steps += 1;
         } else {
             c.contact_steps = 0;

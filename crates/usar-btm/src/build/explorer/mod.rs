@@ -19,10 +19,7 @@ use super::obstacle::{
     FloorHit, ObstacleProfile, ObstacleShape, Passability, floor_hits, track_sample,
 };
 use super::planner::{open_links, route_to_unsearched};
-use super::{
-    BLOCKED_FOR, BuildConfig, BuildError, BuildOutcome, IMPASSABLE_FOR, StopReason,
-    TrajectorySample, count_nodes,
-};
+use super::{BLOCKED_FOR, BuildConfig, BuildError, IMPASSABLE_FOR, StopReason};
 use crate::locomotion::{
     Gains, ModeInputs, RunMode, central_run, dead_end_turn, free_heading, lane_length, lane_open_m,
     select_run_mode, side_distance, target_approach, wall_following,
@@ -30,11 +27,11 @@ use crate::locomotion::{
 use crate::model::{Btm, kind, subtype};
 use crate::store::BtmStore;
 use std::f64::consts::{PI, TAU};
-use std::sync::Arc;
 use usar_map::localization::{Localizer, ScanView, SideClearance};
+use usar_sim::host::{Controller, FleetIo};
 use usar_sim::sensors::LaserScan;
-use usar_sim::{RobotId, RobotSpec, SimConfig, Simulation, Velocity};
-use usar_world::{Point2, Pose2, Scene, normalize_angle};
+use usar_sim::{RobotSpec, Velocity};
+use usar_world::{Point2, Pose2, normalize_angle};
 
 /// Two open directions closer than this to opposite are a plain passage, not a corner.
 const STRAIGHT_TOLERANCE_RAD: f64 = 35.0 * PI / 180.0;
@@ -106,18 +103,39 @@ enum Phase {
     },
 }
 
+/// What a step of the explorer comes to.
+enum Step {
+    Drive(Velocity),
+    Stop(StopReason),
+}
+
+/// What the explorer records at each step, in its own estimate (the truth beside it is the
+/// evaluation's, see [`super::build_btm_observed`]).
+pub(super) struct EstimatedSample {
+    pub(super) time_s: f64,
+    pub(super) estimated: Pose2,
+    pub(super) mode: RunMode,
+    pub(super) contact: bool,
+}
+
+/// The BTM-building robot as a controller on the host: it reads its laser, tilted laser,
+/// attitude, odometry and bumper through a [`FleetIo`] and never sees the scene.
 pub(super) struct Explorer<'a> {
     cfg: &'a BuildConfig,
     spec: RobotSpec,
-    sim: Simulation,
-    id: RobotId,
+    /// The clock and the bumper at the last reading.
+    now: f64,
+    contact: bool,
+    started: bool,
+    /// Why the exploration ended, or what went wrong, once it has.
+    finished: Option<Result<StopReason, BuildError>>,
     loc: Localizer,
     map: MapWriter<'a>,
     raw: LaserScan,
     view: ScanView,
     hits: Vec<FloorHit>,
     state: State,
-    trajectory: Vec<TrajectorySample>,
+    pub(super) trajectory: Vec<EstimatedSample>,
     driven_m: f64,
     step_m: f64,
     last_odometry_m: f64,
@@ -139,46 +157,31 @@ pub(super) struct Explorer<'a> {
 }
 
 impl<'a> Explorer<'a> {
+    /// An explorer for a robot of `spec` that starts at `start` (the map's frame).
     pub(super) fn new(
-        scene: Arc<Scene>,
         spec: RobotSpec,
         cfg: &'a BuildConfig,
-        seed: u64,
         start: Pose2,
         store: Option<&'a BtmStore>,
-    ) -> Result<Self, BuildError> {
-        let name = scene.name.clone();
-        let mut sim = Simulation::new(
-            scene,
-            SimConfig {
-                dt_s: cfg.dt_s,
-                robots_collide: false,
-                robots_in_lasers: false,
-            },
-            seed,
-        );
-        let id = sim
-            .add_robot(spec.clone(), start)
-            .map_err(|source| BuildError::Placement {
-                scene: name,
-                source,
-            })?;
-        let odometry = sim.robot(id).odometry.clone();
-        Ok(Self {
+    ) -> Self {
+        Self {
             cfg,
             spec,
+            now: 0.0,
+            contact: false,
+            started: false,
+            finished: None,
             loc: {
+                // Odometry starts at the start pose.
                 let loc = Localizer::new(
                     start,
-                    odometry.estimate,
+                    start,
                     cfg.scan_matching,
                     cfg.keyframe_distance_m,
                     cfg.keyframe_angle_rad,
                 );
                 if cfg.scan_map { loc.with_map() } else { loc }
             },
-            sim,
-            id,
             map: MapWriter::new(store),
             raw: LaserScan::default(),
             view: ScanView::default(),
@@ -187,7 +190,7 @@ impl<'a> Explorer<'a> {
             trajectory: Vec::new(),
             driven_m: 0.0,
             step_m: 0.0,
-            last_odometry_m: odometry.distance_m,
+            last_odometry_m: 0.0,
             inclination_rad: 0.0,
             node: 0,
             mode: RunMode::CentralRun,
@@ -197,57 +200,41 @@ impl<'a> Explorer<'a> {
             replans: 0,
             ignored: Vec::new(),
             recent_floor: std::collections::VecDeque::new(),
-        })
-    }
-
-    /// Explores until no un-searched link is left or time runs out; `on_progress` gets the
-    /// simulated time, the robot's pose and the map so far four times per simulated second.
-    pub(super) fn run(
-        &mut self,
-        on_progress: &mut dyn FnMut(f64, Pose2, &Btm),
-    ) -> Result<StopReason, BuildError> {
-        self.sense();
-        self.start()?;
-        let mut reported_s = 0.0;
-        loop {
-            if matches!(self.state, State::Done) {
-                return Ok(StopReason::Explored);
-            }
-            let now = self.sim.time_s();
-            if now >= self.cfg.max_time_s {
-                return Ok(StopReason::TimeLimit);
-            }
-            if now >= reported_s + 0.25 {
-                reported_s = (now * 4.0).floor() / 4.0;
-                on_progress(now, self.sim.robot(self.id).pose, &self.map.btm);
-            }
-            let command = self.decide()?;
-            self.sim.step(&[command]);
-            self.sense();
         }
     }
 
-    pub(super) fn into_outcome(self, stop: StopReason) -> BuildOutcome {
-        let btm = self.map.btm;
-        let robot = self.sim.robot(self.id);
-        BuildOutcome {
-            nodes_by_type: count_nodes(&btm),
-            searched_links: btm.links.iter().filter(|l| l.searched).count(),
-            unsearched_links: btm.links.iter().filter(|l| !l.searched).count(),
-            time_s: self.sim.time_s(),
-            distance_m: robot.distance_m,
-            collisions: robot.collisions,
-            max_position_error_m: self
-                .trajectory
-                .iter()
-                .map(|s| s.estimated.position().distance(s.truth.position()))
-                .fold(0.0, f64::max),
-            scan_matches: self.loc.matched,
-            scan_match_rejections: self.loc.rejected,
-            trajectory: self.trajectory,
-            stop,
-            btm,
+    /// The map so far.
+    pub(super) fn btm(&self) -> &Btm {
+        &self.map.btm
+    }
+
+    pub(super) fn into_btm(self) -> Btm {
+        self.map.btm
+    }
+
+    /// Scans matched and rejected by the localizer.
+    pub(super) fn scan_matches(&self) -> (u64, u64) {
+        (self.loc.matched, self.loc.rejected)
+    }
+
+    /// Why the exploration ended (explored, out of time) or what went wrong, once it has.
+    pub(super) fn take_finished(&mut self) -> Option<Result<StopReason, BuildError>> {
+        self.finished.take()
+    }
+
+    /// One step: sense, and unless the map is done or time is up, decide the command.
+    fn control(&mut self, io: &mut FleetIo<'_>) -> Result<Step, BuildError> {
+        self.sense(io);
+        if !std::mem::replace(&mut self.started, true) {
+            self.start()?;
         }
+        if matches!(self.state, State::Done) {
+            return Ok(Step::Stop(StopReason::Explored));
+        }
+        if self.now >= self.cfg.max_time_s {
+            return Ok(Step::Stop(StopReason::TimeLimit));
+        }
+        self.decide().map(Step::Drive)
     }
 
     // ----- sensing -------------------------------------------------------------------------
@@ -262,12 +249,14 @@ impl<'a> Explorer<'a> {
         )
     }
 
-    fn sense(&mut self) {
-        self.sim.scan_laser(self.id, &mut self.raw);
+    fn sense(&mut self, io: &mut FleetIo<'_>) {
+        self.now = io.time_s();
+        self.contact = io.contact(0);
+        io.laser(0, &mut self.raw);
         self.view = ScanView::from_scan(&self.raw);
-        let tilted = self.sim.read_tilted_laser(self.id);
+        let tilted = io.tilted_laser(0);
         self.hits = floor_hits(&self.spec.tilted_laser, &tilted);
-        let attitude = self.sim.read_attitude(self.id);
+        let attitude = io.attitude(0);
         self.inclination_rad = attitude.inclination_rad();
         let half = self.spec.width_m / 2.0;
         let driven = self.driven_m;
@@ -284,25 +273,23 @@ impl<'a> Explorer<'a> {
         {
             self.recent_floor.pop_front();
         }
-        let odometry = self.sim.robot(self.id).odometry.clone();
+        let odometry = io.odometry(0);
         self.step_m = odometry.distance_m - self.last_odometry_m;
         self.last_odometry_m = odometry.distance_m;
         self.driven_m += self.step_m;
         self.loc.predict(odometry.estimate);
         let on_obstacle = self.crossing() || self.inclination_rad >= self.cfg.level_attitude_rad;
         self.loc.correct(&self.view, on_obstacle);
-        let robot = self.sim.robot(self.id);
-        if robot.in_contact() {
+        if self.contact {
             self.contact_steps += 1;
         } else {
             self.contact_steps = 0;
         }
-        self.trajectory.push(TrajectorySample {
-            time_s: self.sim.time_s(),
+        self.trajectory.push(EstimatedSample {
+            time_s: self.now,
             estimated: self.loc.pose(),
-            truth: robot.pose,
             mode: self.mode,
-            contact: robot.in_contact(),
+            contact: self.contact,
         });
     }
 
@@ -477,7 +464,7 @@ impl<'a> Explorer<'a> {
             State::Backoff { .. } => Some(Target::Backoff),
             State::Done => None,
         };
-        match self.stall.check(self.pose(), self.sim.time_s(), target) {
+        match self.stall.check(self.pose(), self.now, target) {
             Some(Remedy::Escape(commands)) => {
                 self.manoeuvre.extend(commands);
                 return Ok(self.manoeuvre.pop_front().unwrap_or_default());
@@ -663,7 +650,7 @@ impl<'a> Explorer<'a> {
         self.mode = mode;
         match (mode, candidate) {
             (RunMode::BranchSelection, Some((centre, radius_m))) => {
-                let since_s = self.sim.time_s();
+                let since_s = self.now;
                 self.approach(ex, centre, radius_m, since_s)
             }
             (RunMode::DeadEndRun, _) => {
@@ -707,7 +694,7 @@ impl<'a> Explorer<'a> {
         }
         let pose = self.pose();
         let distance = pose.position().distance(centre);
-        let patience_over = self.sim.time_s() - since_s > APPROACH_PATIENCE_S;
+        let patience_over = self.now - since_s > APPROACH_PATIENCE_S;
         if distance < self.cfg.arrival_radius_m || (patience_over && distance < 2.0 * radius_m) {
             if self.is_dead_end(centre, radius_m) && !self.floor_seen_to_front_wall() {
                 ex.phase = Phase::ConfirmingDeadEnd { centre, radius_m };
@@ -846,5 +833,18 @@ impl<'a> Explorer<'a> {
         }
         self.continue_from(node, back)?;
         Ok(true)
+    }
+}
+
+impl Controller for Explorer<'_> {
+    fn step(&mut self, io: &mut FleetIo<'_>) {
+        if self.finished.is_some() {
+            return;
+        }
+        match self.control(io) {
+            Ok(Step::Drive(command)) => io.command(0, command),
+            Ok(Step::Stop(stop)) => self.finished = Some(Ok(stop)),
+            Err(e) => self.finished = Some(Err(e)),
+        }
     }
 }
