@@ -113,9 +113,108 @@ pub struct TeamController {
 }
 
 impl TeamController {
+    /// A team on `scene` for robots starting at `starts`: its configuration checked, its maps
+    /// on the configured grid, its semantic knowledge from the source the configuration names
+    /// (the scene's room layer only through the semantic oracle).
+    pub fn on_scene(
+        scene: &Scene,
+        config: TeamConfig,
+        starts: &[Pose2],
+        seed: u64,
+    ) -> Result<Self, MissionError> {
+        if config.robots == 0 {
+            return Err(MissionError::Config("robots must be at least 1".into()));
+        }
+        let t = &config.timing;
+        for (name, v) in [
+            ("scan_period_s", t.scan_period_s),
+            ("merge_period_s", t.merge_period_s),
+            ("assignment_period_s", t.assignment_period_s),
+            ("thermal_period_s", t.thermal_period_s),
+            ("sample_period_s", t.sample_period_s),
+            ("sim.dt_s", config.sim.dt_s),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(MissionError::Config(format!(
+                    "{name} must be a positive number of seconds, found {v}"
+                )));
+            }
+        }
+        if let Some(r) = config.map_resolution_m
+            && !(r.is_finite() && r >= scene.geometry().resolution_m)
+        {
+            return Err(MissionError::Config(format!(
+                "map_resolution_m: found {r}, expected at least the scene's {} m",
+                scene.geometry().resolution_m
+            )));
+        }
+        let x = &config.exploration;
+        let measures = Measures {
+            s_mcdm: FuzzyMeasure::new(&x.s_mcdm)
+                .map_err(|e| MissionError::Config(format!("S-MCDM measure: {e}")))?,
+            d_mcdm: FuzzyMeasure::new(&x.d_mcdm)
+                .map_err(|e| MissionError::Config(format!("D-MCDM measure: {e}")))?,
+        };
+        x.label_errors.check().map_err(MissionError::Config)?;
+        if x.bid_grid_factor == 0 || x.max_robots_per_candidate == 0 {
+            return Err(MissionError::Config(
+                "bid_grid_factor and max_robots_per_candidate must be at least 1".into(),
+            ));
+        }
+        if !(0.0..=1.0).contains(&config.radio.drop_probability) {
+            return Err(MissionError::Config(format!(
+                "radio drop probability: found {}, expected a probability in [0, 1]",
+                config.radio.drop_probability
+            )));
+        }
+        if let Some(r) = config.radio.range_m
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(MissionError::Config(format!(
+                "radio range: found {r} m, expected a positive distance"
+            )));
+        }
+        if let Some(f) = config.failures.iter().find(|f| f.robot >= config.robots) {
+            return Err(MissionError::Config(format!(
+                "failure of robot {}: the team has robots 0 to {}",
+                f.robot,
+                config.robots - 1
+            )));
+        }
+        if let Some(f) = config.stop_at_relevant
+            && !(0.0..=1.0).contains(&f)
+        {
+            return Err(MissionError::Config(format!(
+                "stop_at_relevant: found {f}, expected a fraction in [0, 1]"
+            )));
+        }
+        if starts.len() != config.robots {
+            return Err(MissionError::Config(format!(
+                "{} start poses for a team of {}",
+                starts.len(),
+                config.robots
+            )));
+        }
+        let geometry = map_geometry(scene, config.map_resolution_m);
+        let label_rng = Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM));
+        let x = &config.exploration;
+        let semantic = match config.semantics {
+            // The named semantic oracle: the scene's room layer.
+            Semantics::Oracle => {
+                SemanticMap::new(scene, &geometry, &x.hypothesis, x.label_errors, label_rng)
+            }
+            Semantics::Segmented => {
+                SemanticMap::segmented(&geometry, &x.hypothesis, x.label_errors, label_rng)
+            }
+        };
+        Ok(Self::new(
+            config, starts, geometry, semantic, measures, seed,
+        ))
+    }
+
     /// A team for robots starting at `starts`, its maps on `geometry`, its semantic oracle
     /// `semantic`, its random choices drawn from streams of `seed`.
-    pub(super) fn new(
+    fn new(
         config: TeamConfig,
         starts: &[Pose2],
         geometry: GridGeometry,

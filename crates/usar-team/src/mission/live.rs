@@ -36,13 +36,13 @@ impl TeamMission {
                 let merged_now = self.every(self.config.timing.merge_period_s, step);
                 if let Some(target) = self.config.stop_at_coverage
                     && merged_now
-                    && self.coverage.coverage() >= target
+                    && self.eval.coverage() >= target
                 {
                     finish = Finish::CoverageTarget;
                 }
                 if self.config.stop_at_relevant.is_some()
                     && merged_now
-                    && self.time_to_relevant_s.is_some()
+                    && self.eval.time_to_relevant_s().is_some()
                 {
                     finish = Finish::RelevantTarget;
                 }

@@ -7,7 +7,7 @@
 use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
 use crate::bids::{Measures, TeamSizer};
-use crate::config::{Localization, Semantics};
+use crate::config::Localization;
 use crate::config::{Strategy, TeamConfig};
 use crate::coverage::CoverageCounter;
 use crate::driver::{PathFollower, Recovery, RecoveryStep};
@@ -31,10 +31,12 @@ use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_
 mod allocation;
 mod controller;
 mod driving;
+mod evaluation;
 mod live;
 
 pub use self::controller::{Assignment, TeamController, VictimReport};
 use self::driving::{gives_way, stuck_check};
+pub use self::evaluation::TeamEvaluation;
 
 /// Random streams of the team (robots use streams 0, 1, … of the simulation's seed; the radio
 /// (1 << 20) + 2).
@@ -86,24 +88,12 @@ pub struct TeamMission {
     host: Host,
     fleet: FleetId,
     team: TeamController,
-    /// Evaluation: the part of the reachable area the team's merged map knows.
-    coverage: CoverageCounter,
-    /// Evaluation: the relevant area the team's merged map knows (the scene's room layer).
-    relevant: SemanticMap,
-    /// Merges of the team's map taken into the evaluation.
-    merges_seen: u64,
-    victims_seen: Vec<VictimSighting>,
-    /// Per robot: the largest error of the team's pose estimate so far, metres.
-    max_pose_error_m: Vec<f64>,
-    /// Auction assignments per true room label of their target.
-    assigned_per_label: BTreeMap<RoomLabel, u32>,
+    eval: TeamEvaluation,
     samples: Vec<Sample>,
-    relevant_target: f64,
-    time_to_relevant_s: Option<f64>,
 }
 
 /// The grid of the team's maps: the scene's, or the same extent at `resolution_m`.
-fn map_geometry(scene: &Scene, resolution_m: Option<f64>) -> GridGeometry {
+pub(crate) fn map_geometry(scene: &Scene, resolution_m: Option<f64>) -> GridGeometry {
     let g = *scene.geometry();
     match resolution_m {
         Some(r) if (r - g.resolution_m).abs() > 1e-12 => {
@@ -116,72 +106,6 @@ fn map_geometry(scene: &Scene, resolution_m: Option<f64>) -> GridGeometry {
 
 impl TeamMission {
     pub fn new(scene: Arc<Scene>, config: TeamConfig, seed: u64) -> Result<Self, MissionError> {
-        if config.robots == 0 {
-            return Err(MissionError::Config("robots must be at least 1".into()));
-        }
-        let t = &config.timing;
-        for (name, v) in [
-            ("scan_period_s", t.scan_period_s),
-            ("merge_period_s", t.merge_period_s),
-            ("assignment_period_s", t.assignment_period_s),
-            ("thermal_period_s", t.thermal_period_s),
-            ("sample_period_s", t.sample_period_s),
-            ("sim.dt_s", config.sim.dt_s),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(MissionError::Config(format!(
-                    "{name} must be a positive number of seconds, found {v}"
-                )));
-            }
-        }
-        if let Some(r) = config.map_resolution_m
-            && !(r.is_finite() && r >= scene.geometry().resolution_m)
-        {
-            return Err(MissionError::Config(format!(
-                "map_resolution_m: found {r}, expected at least the scene's {} m",
-                scene.geometry().resolution_m
-            )));
-        }
-        let x = &config.exploration;
-        let measures = Measures {
-            s_mcdm: FuzzyMeasure::new(&x.s_mcdm)
-                .map_err(|e| MissionError::Config(format!("S-MCDM measure: {e}")))?,
-            d_mcdm: FuzzyMeasure::new(&x.d_mcdm)
-                .map_err(|e| MissionError::Config(format!("D-MCDM measure: {e}")))?,
-        };
-        x.label_errors.check().map_err(MissionError::Config)?;
-        if x.bid_grid_factor == 0 || x.max_robots_per_candidate == 0 {
-            return Err(MissionError::Config(
-                "bid_grid_factor and max_robots_per_candidate must be at least 1".into(),
-            ));
-        }
-        if !(0.0..=1.0).contains(&config.radio.drop_probability) {
-            return Err(MissionError::Config(format!(
-                "radio drop probability: found {}, expected a probability in [0, 1]",
-                config.radio.drop_probability
-            )));
-        }
-        if let Some(r) = config.radio.range_m
-            && !(r.is_finite() && r > 0.0)
-        {
-            return Err(MissionError::Config(format!(
-                "radio range: found {r} m, expected a positive distance"
-            )));
-        }
-        if let Some(f) = config.failures.iter().find(|f| f.robot >= config.robots) {
-            return Err(MissionError::Config(format!(
-                "failure of robot {}: the team has robots 0 to {}",
-                f.robot,
-                config.robots - 1
-            )));
-        }
-        if let Some(f) = config.stop_at_relevant
-            && !(0.0..=1.0).contains(&f)
-        {
-            return Err(MissionError::Config(format!(
-                "stop_at_relevant: found {f}, expected a fraction in [0, 1]"
-            )));
-        }
         if scene.start_poses.len() < config.robots {
             return Err(MissionError::NotEnoughStartPoses {
                 scene: scene.name.clone(),
@@ -189,8 +113,8 @@ impl TeamMission {
                 requested: config.robots,
             });
         }
-        let geometry = map_geometry(&scene, config.map_resolution_m);
         let starts = &scene.start_poses[..config.robots];
+        let team = TeamController::on_scene(&scene, config.clone(), starts, seed)?;
         let base = starts[0].position();
         let oracles = Oracles {
             localization: config.localization == Localization::True,
@@ -209,40 +133,14 @@ impl TeamMission {
         for f in &config.failures {
             host.schedule_failure(host.fleet(fleet)[f.robot], f.at_s);
         }
-        let label_rng = Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM));
-        let x = &config.exploration;
-        let semantic = match config.semantics {
-            // The named semantic oracle: the scene's room layer.
-            Semantics::Oracle => {
-                SemanticMap::new(&scene, &geometry, &x.hypothesis, x.label_errors, label_rng)
-            }
-            Semantics::Segmented => {
-                SemanticMap::segmented(&geometry, &x.hypothesis, x.label_errors, label_rng)
-            }
-        };
-        // The evaluation's copy draws no labels: its random stream is never used.
-        let relevant = SemanticMap::new(
-            &scene,
-            &geometry,
-            &config.exploration.hypothesis,
-            config.exploration.label_errors,
-            Pcg64Mcg::seed_from_u64(0),
-        );
-        let team = TeamController::new(config.clone(), starts, geometry, semantic, measures, seed);
+        let eval = TeamEvaluation::new(&scene, &config, base);
         Ok(Self {
-            relevant_target: config.stop_at_relevant.unwrap_or(DEFAULT_RELEVANT_TARGET),
-            coverage: CoverageCounter::new(&scene, base, &geometry),
             config,
             host,
             fleet,
             team,
-            relevant,
-            merges_seen: 0,
-            victims_seen: Vec::new(),
-            max_pose_error_m: vec![0.0; starts.len()],
-            assigned_per_label: RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect(),
+            eval,
             samples: Vec::new(),
-            time_to_relevant_s: None,
         })
     }
 
@@ -257,7 +155,7 @@ impl TeamMission {
 
     /// The coverage of the team's merged map so far (evaluation).
     pub fn coverage(&self) -> f64 {
-        self.coverage.coverage()
+        self.eval.coverage()
     }
 
     fn every(&self, period_s: f64, step: u64) -> bool {
@@ -265,54 +163,11 @@ impl TeamMission {
         step.is_multiple_of(n)
     }
 
-    /// Follows what the team did at its last step: a merge of its map (coverage, relevant
-    /// area) and its victim reports (which victims they were).
+    /// Follows what the team did at its last step.
     fn evaluate(&mut self) {
-        if self.team.merges() != self.merges_seen {
-            self.merges_seen = self.team.merges();
-            let base = &self.team.base;
-            self.coverage.update_from(&base.merged, base.last_changes());
-            self.relevant.update_from(&base.merged, base.last_changes());
-            if self.time_to_relevant_s.is_none()
-                && self.relevant.relevant_fraction() >= self.relevant_target
-            {
-                self.time_to_relevant_s = Some(self.host.time_s());
-            }
-        }
-        let g = *self.team.base.merged.geometry();
-        for a in self.team.take_assignments() {
-            let room = self
-                .relevant
-                .room_of(g.index(a.target))
-                .or_else(|| self.relevant.room_near(&g, a.candidate));
-            if let Some(k) = room {
-                *self
-                    .assigned_per_label
-                    .entry(self.relevant.rooms()[k].label)
-                    .or_default() += 1;
-            }
-        }
         let truth = self.host.evaluator();
-        for ((a, &id), worst) in self
-            .team
-            .agents
-            .iter()
-            .zip(self.host.fleet(self.fleet))
-            .zip(&mut self.max_pose_error_m)
-        {
-            *worst = worst.max(a.pose.position().distance(truth.robot(id).pose.position()));
-        }
-        for report in self.team.take_reports() {
-            if let Some(HeatTruth::Victim(id)) = truth.truth_of(report.reading)
-                && !self.victims_seen.iter().any(|v| v.victim_id == id)
-            {
-                self.victims_seen.push(VictimSighting {
-                    victim_id: id,
-                    robot: report.robot,
-                    time_s: report.time_s,
-                });
-            }
-        }
+        self.eval
+            .update(&mut self.team, &truth, self.host.fleet(self.fleet));
     }
 
     /// The semantic oracle the team bids with.
@@ -342,15 +197,15 @@ impl TeamMission {
         let assigned_per_label = if at_start {
             RoomLabel::ALL.into_iter().map(|l| (l, 0)).collect()
         } else {
-            self.assigned_per_label.clone()
+            self.eval.assigned_per_label().clone()
         };
         self.samples.push(Sample {
             time_s: truth.time_s(),
-            coverage: self.coverage.coverage(),
+            coverage: self.eval.coverage(),
             explored_area_m2: self.team.base.merged.known_area_m2(),
-            victims_seen: self.victims_seen.len(),
+            victims_seen: self.eval.victims_seen().len(),
             distance_m: truth.robots().iter().map(|r| r.distance_m).sum(),
-            relevant_area_m2: self.relevant.relevant_area_m2(),
+            relevant_area_m2: self.eval.relevant_area_m2(),
             assigned_per_label,
         });
     }
@@ -383,7 +238,8 @@ impl TeamMission {
         let truth = self.host.evaluator();
         let scene = truth.scene();
         let g = scene.geometry();
-        let mut victims_seen = self.victims_seen;
+        let eval = self.eval;
+        let mut victims_seen = eval.victims_seen().to_vec();
         victims_seen.sort_by_key(|v| v.victim_id);
         let ids = self.host.fleet(self.fleet);
         let team = self.team;
@@ -392,9 +248,9 @@ impl TeamMission {
             robots: team.agents.len(),
             time_s: truth.time_s(),
             finish,
-            coverage: self.coverage.coverage(),
+            coverage: eval.coverage(),
             explored_area_m2: team.base.merged.known_area_m2(),
-            reachable_area_m2: self.coverage.reachable_cells() as f64 * g.cell_area_m2(),
+            reachable_area_m2: eval.reachable_cells() as f64 * g.cell_area_m2(),
             victims_total: scene.victims.len(),
             victims_seen: victims_seen.len(),
             victim_sightings: victims_seen,
@@ -411,17 +267,17 @@ impl TeamMission {
                         robot: k,
                         distance_m: r.distance_m,
                         collisions: r.collisions,
-                        max_pose_error_m: self.max_pose_error_m[k],
+                        max_pose_error_m: eval.max_pose_error_m()[k],
                         trajectory: a.trajectory.clone(),
                     }
                 })
                 .collect(),
             series: self.samples,
-            relevant_area_m2: self.relevant.relevant_area_m2(),
-            relevant_total_m2: self.relevant.relevant_total_m2(),
-            time_to_relevant_s: self.time_to_relevant_s,
-            relevant_target: self.relevant_target,
-            assigned_per_label: self.assigned_per_label,
+            relevant_area_m2: eval.relevant_area_m2(),
+            relevant_total_m2: eval.relevant_total_m2(),
+            time_to_relevant_s: eval.time_to_relevant_s(),
+            relevant_target: eval.relevant_target(),
+            assigned_per_label: eval.assigned_per_label().clone(),
             allocations: team.allocations,
             merged_map: team.base.merged,
         }
