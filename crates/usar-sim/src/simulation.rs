@@ -96,6 +96,8 @@ pub struct SimRobot {
     pub pose: Pose2,
     /// Collision events: each time a motion is stopped after one that was not.
     pub collisions: u32,
+    /// The collision events where another robot stopped the motion.
+    pub robot_contacts: u32,
     /// Distance actually travelled, metres.
     pub distance_m: f64,
     /// A failed robot no longer moves or senses.
@@ -222,6 +224,7 @@ impl Simulation {
             spec: Arc::new(spec),
             pose,
             collisions: 0,
+            robot_contacts: 0,
             distance_m: 0.0,
             failed: false,
             odometry: Odometry::new(pose),
@@ -256,16 +259,20 @@ impl Simulation {
         }
     }
 
+    fn overlaps_a_robot(&self, robot: &SimRobot, pose: Pose2) -> bool {
+        self.config.robots_collide
+            && self
+                .robots
+                .iter()
+                .any(|o| o.id != robot.id && rectangles_overlap(pose, &robot.spec, o.pose, &o.spec))
+    }
+
     fn pose_is_free(&self, robot: &SimRobot, pose: Pose2) -> bool {
         let g = self.scene.geometry();
         let inside = footprint_cells(g, pose, robot.spec.length_m, robot.spec.width_m, |c| {
             robot.blocked.get(c).is_some_and(|&b| !b)
         });
-        inside
-            && !(self.config.robots_collide
-                && self.robots.iter().any(|o| {
-                    o.id != robot.id && rectangles_overlap(pose, &robot.spec, o.pose, &o.spec)
-                }))
+        inside && !self.overlaps_a_robot(robot, pose)
     }
 
     /// Advances time by one step; `commands[i]` drives robot i (missing commands mean stop).
@@ -291,6 +298,7 @@ impl Simulation {
             let n = ((sweep / half_cell).ceil() as usize).max(1);
             let (ds_n, dth_n) = (ds / n as f64, dth / n as f64);
             let mut stopped = false;
+            let mut by_robot = false;
             let mut done = 0;
             for _ in 0..n {
                 let p = self.robots[i].pose;
@@ -302,6 +310,7 @@ impl Simulation {
                 );
                 if !self.pose_is_free(&self.robots[i], next) {
                     stopped = true;
+                    by_robot = self.overlaps_a_robot(&self.robots[i], next);
                     break;
                 }
                 let r = &mut self.robots[i];
@@ -319,6 +328,7 @@ impl Simulation {
             };
             if stopped && !r.in_contact {
                 r.collisions += 1;
+                r.robot_contacts += u32::from(by_robot);
             }
             r.in_contact = stopped;
         }

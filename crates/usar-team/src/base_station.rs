@@ -6,7 +6,7 @@
 use usar_map::occupancy::MergeSums;
 use usar_map::planning::NavGrid;
 use usar_map::{FrontierCluster, FrontierTracker, NavigableMap, OccupancyGrid, OccupancyParams};
-use usar_world::{Cell, GridGeometry};
+use usar_world::{Cell, GridGeometry, Point2};
 
 pub struct BaseStation {
     pub merged: OccupancyGrid,
@@ -30,6 +30,9 @@ pub struct BaseStation {
     touched: Vec<u32>,
     /// Running sums of the robots' maps (the merge visits only what changed).
     sums: MergeSums,
+    /// Places the team must not plan through (e.g. slopes and stairs another robot recorded),
+    /// as segments with a clearance: (from, to, radius), metres.
+    keep_out: Vec<(Point2, Point2, f64)>,
 }
 
 impl BaseStation {
@@ -64,7 +67,50 @@ impl BaseStation {
             touched_tight: Vec::new(),
             touched: Vec::new(),
             sums: MergeSums::default(),
+            keep_out: Vec::new(),
         }
+    }
+
+    /// Keeps the team's planners off every cell within `radius_m` of the segment `a`–`b`,
+    /// now and after every merge.
+    pub fn keep_out(&mut self, a: Point2, b: Point2, radius_m: f64) {
+        if self.keep_out.contains(&(a, b, radius_m)) {
+            return;
+        }
+        self.keep_out.push((a, b, radius_m));
+        let g = *self.merged.geometry();
+        let (lo, hi) = (
+            g.world_to_cell(Point2::new(a.x.min(b.x) - radius_m, a.y.min(b.y) - radius_m)),
+            g.world_to_cell(Point2::new(a.x.max(b.x) + radius_m, a.y.max(b.y) + radius_m)),
+        );
+        for row in lo.row..=hi.row {
+            for col in lo.col..=hi.col {
+                let c = Cell::new(col, row);
+                if g.contains(c) && segment_distance(g.cell_center(c), a, b) <= radius_m {
+                    self.close(c);
+                }
+            }
+        }
+    }
+
+    /// The keep-out segments given so far.
+    pub fn keep_outs(&self) -> &[(Point2, Point2, f64)] {
+        &self.keep_out
+    }
+
+    /// Makes map cell `c` impassable on both planning grids and its coarse cell on the bid
+    /// grid when no map cell inside it stays passable.
+    fn close(&mut self, c: Cell) {
+        for grid in &mut self.nav_grids {
+            grid.set_passable(c, false);
+        }
+        let k = self.bid_grid_factor as i32;
+        let coarse = Cell::new(c.col / k, c.row / k);
+        let tight = &self.nav_grids[1];
+        let passable = (0..k).any(|dr| {
+            (0..k).any(|dc| tight.is_passable(Cell::new(coarse.col * k + dc, coarse.row * k + dr)))
+        });
+        self.bid_grid.set_passable(coarse, passable);
     }
 
     /// Merges the robots' grids into the team map and updates everything derived from it.
@@ -92,8 +138,10 @@ impl BaseStation {
         {
             for &i in touched {
                 let i = i as usize;
-                self.nav_grids[k]
-                    .set_passable(g.cell_of_index(i), nav.is_navigable(&self.merged, i));
+                let c = g.cell_of_index(i);
+                let open = nav.is_navigable(&self.merged, i)
+                    && (self.keep_out.is_empty() || !kept_out(&self.keep_out, g.cell_center(c)));
+                self.nav_grids[k].set_passable(c, open);
             }
         }
         // The bid grid: only the coarse cells over map cells whose tight navigability may have
@@ -118,4 +166,23 @@ impl BaseStation {
     pub fn clusters(&mut self, min_cells: usize) -> Vec<FrontierCluster> {
         self.frontiers.clusters(&self.merged, min_cells)
     }
+}
+
+/// Whether `p` lies in one of the keep-out segments.
+fn kept_out(keep_out: &[(Point2, Point2, f64)], p: Point2) -> bool {
+    keep_out
+        .iter()
+        .any(|&(a, b, r)| segment_distance(p, a, b) <= r)
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: Point2, a: Point2, b: Point2) -> f64 {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(Point2::new(a.x + t * dx, a.y + t * dy))
 }

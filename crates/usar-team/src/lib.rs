@@ -37,7 +37,9 @@ pub mod tuning;
 pub use self::config::{
     Exploration, Localization, Radio, RobotFailure, Semantics, Strategy, TeamConfig, Timing,
 };
-pub use self::mission::{MissionError, MissionHook, TeamController, TeamMission, VictimReport};
+pub use self::mission::{
+    MissionError, MissionHook, TeamController, TeamEvaluation, TeamMission, VictimReport,
+};
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 
 /// The README's examples, compiled and run as doctests.

@@ -31,6 +31,7 @@ pub mod obstacle;
 pub mod planner;
 
 pub use self::config::BuildConfig;
+pub use self::explorer::{EstimatedSample, Explorer};
 
 use crate::locomotion::RunMode;
 use crate::model::Btm;
@@ -184,7 +185,7 @@ pub fn build_btm_observed(
     let robot = evaluator.robot(id);
     let (scan_matches, scan_match_rejections) = explorer.scan_matches();
     let trajectory: Vec<TrajectorySample> = explorer
-        .trajectory
+        .trajectory()
         .iter()
         .zip(&truth)
         .map(|(s, &truth)| TrajectorySample {

@@ -8,6 +8,7 @@ pub mod console;
 mod demo;
 mod explore;
 mod maxq;
+mod mission;
 mod plan;
 mod scene;
 mod segment;
@@ -22,6 +23,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Plan(args) => plan::run(args),
         Command::Explore(args) => explore::run(args),
         Command::Team(cmd) => team::run(cmd),
+        Command::Mission(cmd) => mission::run(cmd),
         Command::Demo(args) => demo::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Campaign(cmd) => campaign::run(cmd),

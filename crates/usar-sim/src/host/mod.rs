@@ -75,7 +75,8 @@ pub trait Controller {
 /// The world every controller runs in.
 pub struct Host {
     sim: Simulation,
-    fleets: Vec<Vec<RobotId>>,
+    /// Each fleet's robots and the oracles its controller gets.
+    fleets: Vec<(Vec<RobotId>, Oracles)>,
     /// Robots that stop for good at a time: (time, robot), in the order scheduled.
     failures: Vec<(f64, RobotId)>,
     commands: Vec<Velocity>,
@@ -106,21 +107,32 @@ impl Host {
         self
     }
 
-    /// Places a fleet's robots; their ids follow those of the fleets added before.
+    /// Places a fleet's robots; their ids follow those of the fleets added before. Its
+    /// controller gets the host's oracles.
     pub fn add_fleet(&mut self, robots: &[(RobotSpec, Pose2)]) -> Result<FleetId, PlacementError> {
+        self.add_fleet_with(robots, self.oracles)
+    }
+
+    /// [`Host::add_fleet`] with oracles of its own for this fleet's controller (in a mission
+    /// one controller may assume what another does not).
+    pub fn add_fleet_with(
+        &mut self,
+        robots: &[(RobotSpec, Pose2)],
+        oracles: Oracles,
+    ) -> Result<FleetId, PlacementError> {
         let mut ids = Vec::with_capacity(robots.len());
         for (spec, pose) in robots {
             ids.push(self.sim.add_robot(spec.clone(), *pose)?);
         }
         self.commands
             .resize(self.sim.robots().len(), Velocity::default());
-        self.fleets.push(ids);
+        self.fleets.push((ids, oracles));
         Ok(FleetId(self.fleets.len() - 1))
     }
 
     /// The simulation ids of a fleet's robots, in the order they were given.
     pub fn fleet(&self, fleet: FleetId) -> &[RobotId] {
-        &self.fleets[fleet.0]
+        &self.fleets[fleet.0].0
     }
 
     /// Robot `robot` stops for good (moves and senses no more) once the clock reaches `at_s`.
@@ -128,6 +140,7 @@ impl Host {
         self.failures.push((at_s, robot));
     }
 
+    /// The oracles fleets get unless added with their own.
     pub fn oracles(&self) -> Oracles {
         self.oracles
     }
@@ -157,13 +170,14 @@ impl Host {
     /// happen first, so a controller never drives a robot that has failed).
     pub fn decide(&mut self, fleet: FleetId, controller: &mut dyn Controller) {
         self.apply_failures();
+        let (robots, oracles) = &self.fleets[fleet.0];
         let mut io = FleetIo::new(
             &mut self.sim,
-            &self.fleets[fleet.0],
+            robots,
             &mut self.commands,
             &mut self.detections,
             &mut self.radio,
-            self.oracles,
+            *oracles,
         );
         controller.step(&mut io);
     }

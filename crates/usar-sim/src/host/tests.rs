@@ -98,7 +98,12 @@ fn robots_of_different_controllers_cannot_occupy_one_place() {
     );
     // Face to face: the wheeled robot's front half (0.25) and the crawler's (0.3) apart.
     assert!(q.x - p.x >= 0.55 - 1e-9, "{p:?} {q:?}");
-    assert!(truth.robots().iter().all(|r| r.collisions == 1));
+    assert!(
+        truth
+            .robots()
+            .iter()
+            .all(|r| r.collisions == 1 && r.robot_contacts == 1)
+    );
 }
 
 #[test]

@@ -295,6 +295,22 @@ impl TeamController {
         &self.base
     }
 
+    /// Keeps the team's planners off the segment `a`–`b` widened by `radius_m` (a slope or
+    /// stairs its robots cannot take, reported by another robot).
+    pub fn keep_out(&mut self, a: Point2, b: Point2, radius_m: f64) {
+        self.base.keep_out(a, b, radius_m);
+    }
+
+    /// The team's robots' poses as the team believes them.
+    pub fn believed_poses(&self) -> Vec<Pose2> {
+        self.agents.iter().map(|a| a.pose).collect()
+    }
+
+    /// Each robot's trajectory (its believed position once per simulated second).
+    pub fn trajectories(&self) -> Vec<&[Point2]> {
+        self.agents.iter().map(|a| a.trajectory.as_slice()).collect()
+    }
+
     /// Whether the team believes the floor explored: nobody has had anything to do for
     /// [`Tuning::explored_after_s`].
     pub fn explored(&self) -> bool {

@@ -111,16 +111,17 @@ enum Step {
 
 /// What the explorer records at each step, in its own estimate (the truth beside it is the
 /// evaluation's, see [`super::build_btm_observed`]).
-pub(super) struct EstimatedSample {
-    pub(super) time_s: f64,
-    pub(super) estimated: Pose2,
-    pub(super) mode: RunMode,
-    pub(super) contact: bool,
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EstimatedSample {
+    pub time_s: f64,
+    pub estimated: Pose2,
+    pub mode: RunMode,
+    pub contact: bool,
 }
 
 /// The BTM-building robot as a controller on the host: it reads its laser, tilted laser,
 /// attitude, odometry and bumper through a [`FleetIo`] and never sees the scene.
-pub(super) struct Explorer<'a> {
+pub struct Explorer<'a> {
     cfg: &'a BuildConfig,
     spec: RobotSpec,
     /// The clock and the bumper at the last reading.
@@ -135,7 +136,7 @@ pub(super) struct Explorer<'a> {
     view: ScanView,
     hits: Vec<FloorHit>,
     state: State,
-    pub(super) trajectory: Vec<EstimatedSample>,
+    trajectory: Vec<EstimatedSample>,
     driven_m: f64,
     step_m: f64,
     last_odometry_m: f64,
@@ -158,7 +159,7 @@ pub(super) struct Explorer<'a> {
 
 impl<'a> Explorer<'a> {
     /// An explorer for a robot of `spec` that starts at `start` (the map's frame).
-    pub(super) fn new(
+    pub fn new(
         spec: RobotSpec,
         cfg: &'a BuildConfig,
         start: Pose2,
@@ -203,22 +204,32 @@ impl<'a> Explorer<'a> {
         }
     }
 
+    /// Where it believed it was at each step, with its run mode and bumper.
+    pub fn trajectory(&self) -> &[EstimatedSample] {
+        &self.trajectory
+    }
+
+    /// Its position estimate now.
+    pub fn estimated_pose(&self) -> Pose2 {
+        self.loc.pose()
+    }
+
     /// The map so far.
-    pub(super) fn btm(&self) -> &Btm {
+    pub fn btm(&self) -> &Btm {
         &self.map.btm
     }
 
-    pub(super) fn into_btm(self) -> Btm {
+    pub fn into_btm(self) -> Btm {
         self.map.btm
     }
 
     /// Scans matched and rejected by the localizer.
-    pub(super) fn scan_matches(&self) -> (u64, u64) {
+    pub fn scan_matches(&self) -> (u64, u64) {
         (self.loc.matched, self.loc.rejected)
     }
 
     /// Why the exploration ended (explored, out of time) or what went wrong, once it has.
-    pub(super) fn take_finished(&mut self) -> Option<Result<StopReason, BuildError>> {
+    pub fn take_finished(&mut self) -> Option<Result<StopReason, BuildError>> {
         self.finished.take()
     }
 

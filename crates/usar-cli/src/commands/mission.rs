@@ -1,0 +1,95 @@
+//! `usar mission run`: the whole mission in one world (`usar_mission`).
+
+use super::print_json;
+use crate::cli::{MissionCommand, MissionRunArgs};
+use crate::failure::{CmdResult, InputContext};
+use crate::{progress, scene_source};
+use std::sync::Arc;
+use usar_btm::store::BtmStore;
+use usar_mission::{MissionConfig, MissionOutcome, run_mission};
+
+pub fn run(cmd: MissionCommand) -> CmdResult {
+    match cmd {
+        MissionCommand::Run(args) => run_one(args),
+    }
+}
+
+fn run_one(args: MissionRunArgs) -> CmdResult {
+    let mut config: MissionConfig = match &args.file {
+        Some(path) => scene_source::read_toml(path)?,
+        None => MissionConfig::default(),
+    };
+    if let Some(m) = args.minutes {
+        config.minutes = m;
+    }
+    let scene = Arc::new(scene_source::load(
+        &config.scene,
+        config.scene_seed,
+        &args.image,
+    )?);
+    let store = match &args.btm {
+        Some(path) => Some(BtmStore::create(path).input()?),
+        None => None,
+    };
+    let bar = progress::bar((config.minutes * 60.0).round() as u64, "mission", args.json);
+    let outcome = run_mission(scene, &config, args.seed, store.as_ref(), |t| {
+        bar.set_position(t.round() as u64)
+    })
+    .input()?;
+    bar.finish_and_clear();
+    if let Some(dir) = &args.out {
+        usar_mission::report::write_report(dir, &outcome)?;
+    }
+    if args.json {
+        return print_json(&outcome);
+    }
+    print_text(&outcome);
+    if let Some(dir) = &args.out {
+        println!("report: {}", dir.display());
+    }
+    Ok(())
+}
+
+fn print_text(o: &MissionOutcome) {
+    let t = &o.team;
+    println!(
+        "mission on {} (seed {}), {:.0} s simulated",
+        o.scene, o.seed, o.time_s
+    );
+    println!(
+        "team ({} robots): relevant area {:.0} of {:.0} m², coverage {:.1} %, victims seen {}/{}, {:.0} m driven, {} collisions, largest pose error {:.2} m",
+        t.robots,
+        t.relevant_area_m2,
+        t.relevant_total_m2,
+        t.coverage * 100.0,
+        t.victims_seen,
+        t.victims_total,
+        t.distance_m,
+        t.collisions,
+        t.max_pose_error_m
+    );
+    println!(
+        "base station: {} BTMs received, {} keep-out zones for the wheeled robots",
+        t.btm_maps_received, t.keep_out_zones
+    );
+    if let Some(c) = &o.crawler {
+        println!(
+            "crawler: BTM of {} nodes and {} links ({} un-searched), {:.0} m driven, {} collisions, largest position error {:.2} m, {} maps sent, {}",
+            c.nodes,
+            c.links,
+            c.unsearched_links,
+            c.distance_m,
+            c.collisions,
+            c.max_position_error_m,
+            c.maps_sent,
+            match c.stop {
+                Some(s) => format!("stopped: {s:?}"),
+                None => "still exploring at the end".into(),
+            }
+        );
+    }
+    println!(
+        "robot-robot contacts {}, radio: {} sent, {} delivered, {} lost",
+        o.robot_contacts, o.radio.sent, o.radio.delivered, o.radio.lost
+    );
+}

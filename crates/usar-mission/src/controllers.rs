@@ -1,0 +1,135 @@
+//! The mission's controllers as they sit on the host: the team, which listens at its base
+//! station for the crawler's Behavioral Trace Map and keeps its wheeled robots off what the
+//! crawler recorded they cannot take; and the crawler, which builds the map and sends it.
+
+use usar_btm::build::{BuildError, Explorer, StopReason};
+use usar_btm::plan::{RobotLimits, link_violations, node_violations};
+use usar_btm::wire;
+use usar_sim::host::{Controller, Endpoint, FleetIo};
+use usar_team::TeamController;
+use usar_world::Point2;
+
+/// The radio topic of BTMs.
+pub const BTM_TOPIC: &str = "btm";
+
+/// The team, with the BTMs that reach its base station turned into keep-out zones.
+pub struct TeamWithBtm {
+    pub team: TeamController,
+    /// What the team's robots can take.
+    limits: RobotLimits,
+    /// How far from a closed link or node the planners stay, metres: the robot's circumscribed
+    /// radius.
+    clearance_m: f64,
+    /// BTMs received and ones that could not be read.
+    pub maps_received: u32,
+    pub maps_unreadable: u32,
+}
+
+impl TeamWithBtm {
+    pub fn new(team: TeamController, limits: RobotLimits, clearance_m: f64) -> Self {
+        Self {
+            team,
+            limits,
+            clearance_m,
+            maps_received: 0,
+            maps_unreadable: 0,
+        }
+    }
+
+    /// Closes every link and node of `btm` the team's robots cannot take (too narrow, too
+    /// steep, too high a step, as the crawler measured them).
+    fn keep_off(&mut self, btm: &usar_btm::model::Btm) {
+        for link in &btm.links {
+            let (Some(a), Some(b)) = (btm.node(link.start), link.end.and_then(|e| btm.node(e)))
+            else {
+                continue;
+            };
+            if !link_violations(link, &self.limits).is_empty() {
+                let half_width = link.min_width_m.unwrap_or(0.0) / 2.0;
+                self.team.keep_out(
+                    Point2::new(a.x_m, a.y_m),
+                    Point2::new(b.x_m, b.y_m),
+                    self.clearance_m + half_width,
+                );
+            }
+        }
+        for node in &btm.nodes {
+            if !node_violations(node, &self.limits).is_empty() {
+                let p = Point2::new(node.x_m, node.y_m);
+                self.team.keep_out(p, p, self.clearance_m);
+            }
+        }
+    }
+}
+
+impl Controller for TeamWithBtm {
+    fn step(&mut self, io: &mut FleetIo<'_>) {
+        for message in io.receive(Endpoint::Base, BTM_TOPIC) {
+            self.maps_received += 1;
+            match wire::decode(&message.payload) {
+                Ok(btm) => self.keep_off(&btm),
+                Err(_) => self.maps_unreadable += 1,
+            }
+        }
+        self.team.step(io);
+    }
+}
+
+/// The crawler: it explores and builds its BTM, and sends the map to the base station every
+/// `share_period_s` (and once more when it has finished).
+pub struct SharingCrawler<'a> {
+    pub explorer: Explorer<'a>,
+    share_period_s: f64,
+    last_shared_s: Option<f64>,
+    /// Why the exploration ended, once it has.
+    pub finished: Option<Result<StopReason, BuildError>>,
+    shared_final: bool,
+    pub maps_sent: u32,
+}
+
+impl<'a> SharingCrawler<'a> {
+    pub fn new(explorer: Explorer<'a>, share_period_s: f64) -> Self {
+        Self {
+            explorer,
+            share_period_s,
+            last_shared_s: None,
+            finished: None,
+            shared_final: false,
+            maps_sent: 0,
+        }
+    }
+
+    fn share(&mut self, io: &mut FleetIo<'_>) {
+        let btm = self.explorer.btm();
+        if btm.nodes.is_empty() {
+            return;
+        }
+        io.send(
+            Endpoint::Robot(io.id(0)),
+            Endpoint::Base,
+            BTM_TOPIC,
+            wire::encode(btm),
+        );
+        self.last_shared_s = Some(io.time_s());
+        self.maps_sent += 1;
+    }
+}
+
+impl Controller for SharingCrawler<'_> {
+    fn step(&mut self, io: &mut FleetIo<'_>) {
+        if self.finished.is_none() {
+            self.explorer.step(io);
+            self.finished = self.explorer.take_finished();
+        }
+        let due = self
+            .last_shared_s
+            .is_none_or(|t| io.time_s() - t >= self.share_period_s);
+        if self.finished.is_some() {
+            if !std::mem::replace(&mut self.shared_final, true) {
+                self.share(io);
+            }
+        } else if due {
+            self.share(io);
+        }
+    }
+}
