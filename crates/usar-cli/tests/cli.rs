@@ -6,6 +6,7 @@ mod console;
 mod golden;
 mod inputs;
 mod maxq;
+mod mission;
 mod segment;
 
 use std::path::{Path, PathBuf};

@@ -25,6 +25,11 @@ pub mod report;
 
 pub use self::config::{CrawlerPart, MissionConfig, TeamPart};
 
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
+
 use self::controllers::{SharingCrawler, TeamWithBtm};
 use serde::Serialize;
 use std::collections::BTreeMap;

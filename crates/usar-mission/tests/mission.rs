@@ -22,3 +22,56 @@ fn a_mission_is_a_pure_function_of_scene_configuration_and_seed() {
     assert!(crawler.maps_sent >= 1 && a.team.btm_maps_received >= 1);
     assert!(a.radio.delivered >= u64::from(crawler.maps_sent));
 }
+
+#[test]
+fn the_slopes_and_stairs_the_crawler_records_are_closed_to_the_wheeled_robots() {
+    // The course has a slope and stairs no wheeled robot climbs (15° and 0.05 m at most).
+    let scene = Arc::new(generate(SceneKind::Course, 1));
+    let config: MissionConfig = toml::from_str(
+        r#"
+        scene = "course"
+        minutes = 15
+        [team]
+        robots = 2
+        robot = "wheeled"
+        strategy = "nearest"
+        "#,
+    )
+    .unwrap();
+    let out = run_mission(scene, &config, 1, None, |_| {}).unwrap();
+    let crawler = out.crawler.as_ref().unwrap();
+    let obstacles: usize = crawler
+        .nodes_by_type
+        .iter()
+        .filter(|(k, _)| k.starts_with("obstacle"))
+        .map(|(_, n)| n)
+        .sum();
+    assert!(obstacles >= 2, "{:?}", crawler.nodes_by_type);
+    assert!(out.team.keep_out_zones >= 1, "{:?}", out.team);
+    // Every keep-out lies on the BTM's obstacle links or nodes.
+    let btm = out.btm.as_ref().unwrap();
+    for &(a, b, _) in &out.keep_outs {
+        let near_obstacle = |p: usar_world::Point2| {
+            btm.nodes.iter().any(|n| {
+                n.kind == "obstacle" && usar_world::Point2::new(n.x_m, n.y_m).distance(p) < 8.0
+            })
+        };
+        assert!(near_obstacle(a) || near_obstacle(b), "{a:?} {b:?}");
+    }
+}
+
+#[test]
+fn a_bad_mission_file_names_the_field() {
+    let err = toml::from_str::<MissionConfig>("minutes = 5\n[team]\nrobotz = 3\n").unwrap_err();
+    assert!(err.to_string().contains("robotz"), "{err}");
+    let scene = Arc::new(generate(SceneKind::Office, 1));
+    let config = MissionConfig {
+        minutes: -1.0,
+        ..MissionConfig::default()
+    };
+    let err = run_mission(scene, &config, 1, None, |_| {}).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "mission field minutes: found -1, expected (0, 1440]"
+    );
+}

@@ -368,7 +368,16 @@ impl TeamController {
                 a.recovery.stop();
             }
             a.alive = alive;
-            a.pose = io.true_pose(k).unwrap_or_else(|| io.odometry(k).estimate);
+            // Without the oracle the localizer carries the estimate between scans: odometry's
+            // motion since the last step on top of the last corrected pose.
+            a.pose = match (io.true_pose(k), &mut a.localizer) {
+                (Some(truth), _) => truth,
+                (None, Some(loc)) => {
+                    loc.predict(io.odometry(k).estimate);
+                    loc.pose()
+                }
+                (None, None) => io.odometry(k).estimate,
+            };
         }
     }
 

@@ -1,0 +1,47 @@
+//! `usar mission run`: the whole mission in one world.
+
+use super::{assert_bad_input, usar};
+
+#[test]
+fn the_built_in_mission_writes_its_report_and_prints_every_system() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("report");
+    let out = usar(&[
+        "mission",
+        "run",
+        "--minutes",
+        "1",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["team"]["robots"], 4);
+    assert!(v["crawler"]["nodes"].as_u64().unwrap() > 0);
+    assert!(v["radio"]["delivered"].as_u64().unwrap() > 0);
+    for f in ["map.png", "victims.csv", "coverage.csv", "summary.json"] {
+        assert!(out_dir.join(f).is_file(), "{f}");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["team"], v["team"]);
+}
+
+#[test]
+fn a_mission_file_with_an_unknown_field_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("m.toml");
+    std::fs::write(&f, "minutes = 1\n[crawler]\nshare_every = 3\n").unwrap();
+    assert_bad_input(
+        &usar(&["mission", "run", f.to_str().unwrap()]),
+        "share_every",
+    );
+    std::fs::write(&f, "minutes = 1\n[team]\nstrategy = \"best\"\n").unwrap();
+    assert_bad_input(&usar(&["mission", "run", f.to_str().unwrap()]), "strategy");
+}
