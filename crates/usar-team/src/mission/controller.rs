@@ -102,7 +102,7 @@ pub struct TeamController {
     /// Steps seen (0 before the first).
     step: u64,
     /// Robots whose recovery ended at the last step: they need a target.
-    replan: Vec<usize>,
+    pub(super) replan: Vec<usize>,
     idle_since: Option<f64>,
     explored: bool,
     /// Merges done so far (the evaluator follows the merged map's changes by it).
@@ -122,72 +122,7 @@ impl TeamController {
         starts: &[Pose2],
         seed: u64,
     ) -> Result<Self, MissionError> {
-        if config.robots == 0 {
-            return Err(MissionError::Config("robots must be at least 1".into()));
-        }
-        let t = &config.timing;
-        for (name, v) in [
-            ("scan_period_s", t.scan_period_s),
-            ("merge_period_s", t.merge_period_s),
-            ("assignment_period_s", t.assignment_period_s),
-            ("thermal_period_s", t.thermal_period_s),
-            ("sample_period_s", t.sample_period_s),
-            ("sim.dt_s", config.sim.dt_s),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(MissionError::Config(format!(
-                    "{name} must be a positive number of seconds, found {v}"
-                )));
-            }
-        }
-        if let Some(r) = config.map_resolution_m
-            && !(r.is_finite() && r >= scene.geometry().resolution_m)
-        {
-            return Err(MissionError::Config(format!(
-                "map_resolution_m: found {r}, expected at least the scene's {} m",
-                scene.geometry().resolution_m
-            )));
-        }
-        let x = &config.exploration;
-        let measures = Measures {
-            s_mcdm: FuzzyMeasure::new(&x.s_mcdm)
-                .map_err(|e| MissionError::Config(format!("S-MCDM measure: {e}")))?,
-            d_mcdm: FuzzyMeasure::new(&x.d_mcdm)
-                .map_err(|e| MissionError::Config(format!("D-MCDM measure: {e}")))?,
-        };
-        x.label_errors.check().map_err(MissionError::Config)?;
-        if x.bid_grid_factor == 0 || x.max_robots_per_candidate == 0 {
-            return Err(MissionError::Config(
-                "bid_grid_factor and max_robots_per_candidate must be at least 1".into(),
-            ));
-        }
-        if !(0.0..=1.0).contains(&config.radio.drop_probability) {
-            return Err(MissionError::Config(format!(
-                "radio drop probability: found {}, expected a probability in [0, 1]",
-                config.radio.drop_probability
-            )));
-        }
-        if let Some(r) = config.radio.range_m
-            && !(r.is_finite() && r > 0.0)
-        {
-            return Err(MissionError::Config(format!(
-                "radio range: found {r} m, expected a positive distance"
-            )));
-        }
-        if let Some(f) = config.failures.iter().find(|f| f.robot >= config.robots) {
-            return Err(MissionError::Config(format!(
-                "failure of robot {}: the team has robots 0 to {}",
-                f.robot,
-                config.robots - 1
-            )));
-        }
-        if let Some(f) = config.stop_at_relevant
-            && !(0.0..=1.0).contains(&f)
-        {
-            return Err(MissionError::Config(format!(
-                "stop_at_relevant: found {f}, expected a fraction in [0, 1]"
-            )));
-        }
+        let measures = config.check(scene.geometry().resolution_m)?;
         if starts.len() != config.robots {
             return Err(MissionError::Config(format!(
                 "{} start poses for a team of {}",
@@ -308,7 +243,10 @@ impl TeamController {
 
     /// Each robot's trajectory (its believed position once per simulated second).
     pub fn trajectories(&self) -> Vec<&[Point2]> {
-        self.agents.iter().map(|a| a.trajectory.as_slice()).collect()
+        self.agents
+            .iter()
+            .map(|a| a.trajectory.as_slice())
+            .collect()
     }
 
     /// Whether the team believes the floor explored: nobody has had anything to do for
@@ -558,42 +496,6 @@ impl TeamController {
             }
         } else {
             self.idle_since = None;
-        }
-    }
-
-    /// Every robot's velocity for the coming step: a recovery manoeuvre, or its path, giving
-    /// way to a team mate close ahead.
-    fn drive(&mut self, io: &mut FleetIo<'_>) {
-        let now = self.now;
-        let tuning = self.config.tuning;
-        let poses: Vec<Pose2> = self.agents.iter().map(|a| a.pose).collect();
-        for (k, a) in self.agents.iter_mut().enumerate() {
-            let command = match a.recovery.step(now, io.contact(k)) {
-                RecoveryStep::Escape(v) => v,
-                RecoveryStep::Ended => {
-                    a.recoveries += 1;
-                    if a.recoveries >= tuning.max_recoveries
-                        && let Some(t) = a.target.take()
-                    {
-                        a.blacklist.push((t, now + tuning.blacklist_s));
-                        a.follower = PathFollower::default();
-                    }
-                    self.replan.push(k);
-                    Velocity::default()
-                }
-                RecoveryStep::Free => {
-                    let mut cmd = a.follower.command(a.pose, io.spec(k));
-                    if cmd.linear_mps > 0.0
-                        && poses[..k]
-                            .iter()
-                            .any(|o| gives_way(&tuning, a.pose, o.position()))
-                    {
-                        cmd.linear_mps = 0.0;
-                    }
-                    cmd
-                }
-            };
-            io.command(k, command);
         }
     }
 

@@ -1,7 +1,47 @@
-//! Driving rules of the team's robots the papers leave open: when a robot with a target is
-//! stuck, the way back along its trajectory, and when it gives way to a team mate.
+//! Driving: every robot's command for the coming step, and the rules the papers leave open —
+//! when a robot with a target is stuck, the way back along its trajectory, and when it gives
+//! way to a team mate.
 
 use super::*;
+use usar_sim::host::FleetIo;
+
+impl TeamController {
+    /// Every robot's velocity for the coming step: a recovery manoeuvre, or its path, giving
+    /// way to a team mate close ahead.
+    pub(super) fn drive(&mut self, io: &mut FleetIo<'_>) {
+        let now = self.now;
+        let tuning = self.config.tuning;
+        let poses: Vec<Pose2> = self.agents.iter().map(|a| a.pose).collect();
+        for (k, a) in self.agents.iter_mut().enumerate() {
+            let command = match a.recovery.step(now, io.contact(k)) {
+                RecoveryStep::Escape(v) => v,
+                RecoveryStep::Ended => {
+                    a.recoveries += 1;
+                    if a.recoveries >= tuning.max_recoveries
+                        && let Some(t) = a.target.take()
+                    {
+                        a.blacklist.push((t, now + tuning.blacklist_s));
+                        a.follower = PathFollower::default();
+                    }
+                    self.replan.push(k);
+                    Velocity::default()
+                }
+                RecoveryStep::Free => {
+                    let mut cmd = a.follower.command(a.pose, io.spec(k));
+                    if cmd.linear_mps > 0.0
+                        && poses[..k]
+                            .iter()
+                            .any(|o| gives_way(&tuning, a.pose, o.position()))
+                    {
+                        cmd.linear_mps = 0.0;
+                    }
+                    cmd
+                }
+            };
+            io.command(k, command);
+        }
+    }
+}
 
 /// The progress check of a robot with a target, [`Tuning::stuck_window_s`] after its `mark`: whether it
 /// is stuck, and its turning in place since it last moved (`turned_before` until this check).

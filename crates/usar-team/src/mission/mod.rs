@@ -29,13 +29,14 @@ use usar_sim::{PlacementError, Simulation, Velocity, derive_seed};
 use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_angle};
 
 mod allocation;
+mod check;
 mod controller;
 mod driving;
 mod evaluation;
 mod live;
 
 pub use self::controller::{Assignment, TeamController, VictimReport};
-use self::driving::{gives_way, stuck_check};
+use self::driving::stuck_check;
 pub use self::evaluation::TeamEvaluation;
 
 /// Random streams of the team (robots use streams 0, 1, … of the simulation's seed; the radio
