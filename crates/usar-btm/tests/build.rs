@@ -377,3 +377,44 @@ fn a_scene_without_start_pose_or_a_bad_config_is_an_error() {
     let err = build_btm(course(), robot, &BuildConfig::default(), 1, None).unwrap_err();
     assert!(matches!(err, BuildError::Placement { .. }), "{err}");
 }
+
+/// The builder decides from its robot's readings only: replacing the layers a robot cannot
+/// sense — room ids and labels, doors, the victim list, the junctions and terrain features a
+/// test checks against — with garbage changes nothing it builds or drives.
+#[test]
+fn garbage_in_what_the_robot_cannot_sense_changes_nothing_the_builder_does() {
+    let clean = &crawler_runs()[0];
+    let mut spoiled = (*course()).clone();
+    let (w, h) = spoiled.geometry().extent_m();
+    for (k, id) in spoiled.room_id.as_mut_slice().iter_mut().enumerate() {
+        *id = (k % 7) as u16;
+    }
+    spoiled.rooms.clear();
+    spoiled.doors.clear();
+    spoiled.victims = (0..4)
+        .map(|id| usar_world::Victim {
+            id,
+            position: Point2::new(w * 0.2 * f64::from(id + 1), h / 2.0),
+            heat_c: 34.0,
+            visible_size_m2: 0.4,
+            buried_fraction: 0.0,
+        })
+        .collect();
+    spoiled.ground_truth.junctions = (0..5)
+        .map(|k| usar_world::Junction {
+            kind: JunctionKind::Crossing,
+            position: Point2::new(w * 0.15 * f64::from(k), h * 0.3),
+        })
+        .collect();
+    spoiled.ground_truth.features.clear();
+    let out = build_btm(
+        Arc::new(spoiled),
+        RobotSpec::crawler(),
+        &BuildConfig::default(),
+        SEEDS[0],
+        None,
+    )
+    .expect("build");
+    assert_eq!(out.btm, clean.btm);
+    assert_eq!(out.trajectory, clean.trajectory);
+}
