@@ -5,7 +5,9 @@
 //! attitude.
 //!
 //! A run is a pure function of (scene, configuration, seed): every robot draws its noise from
-//! its own `Pcg64Mcg` stream derived from the seed and its id.
+//! its own `Pcg64Mcg` streams derived from the seed and its id (one for the thermal camera, one
+//! for everything else). [`host`] runs controllers on one simulation: each sees only its own
+//! robots' readings.
 //!
 //! ```
 //! use std::sync::Arc;
