@@ -8,7 +8,7 @@
 //! - [`exploration`]: the direction-based exploration of §V (eq. 7–10, Table II);
 //! - [`operator`]: the hand-off interface and a simulated operator;
 //! - [`training`], [`evaluation`], [`teleoperation`]: the experiments of §VI and §VII-B, and
-//!   [`analysis`]: §VI-B's statistics over an evaluation;
+//!   [`analysis`]: §VI-B's statistics over an evaluation, [`figures`]: their figures;
 //! - [`policy`]: the versioned policy file;
 //! - [`runner`]: the campaign runner `maxq-eval` (one §VI-B run per configuration and seed).
 //!
@@ -31,6 +31,7 @@ pub mod cell_map;
 pub mod domain;
 pub mod evaluation;
 pub mod exploration;
+pub mod figures;
 pub mod hierarchy;
 mod marks;
 pub mod operator;

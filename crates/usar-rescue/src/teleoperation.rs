@@ -9,6 +9,7 @@
 //! every command they give up with probability `(1 − skill) · give_up_rate`, and they stop
 //! when the map shows nothing left to explore.
 
+use crate::analysis::{MeanSd, mean_sd};
 use crate::domain::{DomainConfig, RescueDomain, RescueScene};
 use crate::evaluation::{EvalConfig, run_once};
 use crate::exploration::ExplorationWeights;
@@ -176,5 +177,53 @@ fn teleoperate(
         collisions: d.stats.robot_collisions + d.stats.operator_collisions,
         time_s: d.stats.time_s,
         handoffs: 0,
+    }
+}
+
+/// One mode's results over the participants: mean and sd of each measure.
+#[derive(Serialize)]
+pub struct StudySide {
+    pub victims_found: MeanSd,
+    pub false_identifications: MeanSd,
+    pub explored_percent: MeanSd,
+    pub collisions: MeanSd,
+    pub time_s: MeanSd,
+}
+
+impl StudySide {
+    /// Mean and sd over the trials `pick` chooses from each participant.
+    pub fn over(
+        results: &[ParticipantResult],
+        pick: impl Fn(&ParticipantResult) -> &TrialResult,
+    ) -> Self {
+        let mean = |f: &dyn Fn(&TrialResult) -> f64| {
+            mean_sd(&results.iter().map(|p| f(pick(p))).collect::<Vec<_>>())
+        };
+        StudySide {
+            victims_found: mean(&|t| f64::from(t.victims_found)),
+            false_identifications: mean(&|t| f64::from(t.false_identifications)),
+            explored_percent: mean(&|t| t.explored_percent),
+            collisions: mean(&|t| f64::from(t.collisions)),
+            time_s: mean(&|t| t.time_s),
+        }
+    }
+}
+
+/// The study's results: every participant, and each mode summarised (Table III).
+#[derive(Serialize)]
+pub struct StudySummary {
+    pub participants: Vec<ParticipantResult>,
+    pub semi_autonomous: StudySide,
+    pub teleoperated: StudySide,
+}
+
+impl StudySummary {
+    /// Summarises the participants' results of [`study`].
+    pub fn new(participants: Vec<ParticipantResult>) -> Self {
+        StudySummary {
+            semi_autonomous: StudySide::over(&participants, |p| &p.semi_autonomous),
+            teleoperated: StudySide::over(&participants, |p| &p.teleoperated),
+            participants,
+        }
     }
 }

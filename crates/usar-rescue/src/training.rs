@@ -121,6 +121,14 @@ pub struct TrainReport {
     pub curve: Vec<TrialPoint>,
 }
 
+impl TrainReport {
+    /// MAXQ-Q's stored values as a share of flat Q's (the §VI-A memory comparison; flat Q
+    /// counted as at least 1).
+    pub fn maxq_over_flat(&self) -> f64 {
+        self.maxq_q_values as f64 / self.flat_q_values.max(1) as f64
+    }
+}
+
 /// The seed of trial `t` (scene, start, streams).
 pub fn trial_seed(seed: u64, t: u32) -> u64 {
     seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)

@@ -5,14 +5,15 @@ use crate::cli::{MaxqCommand, MaxqEvalArgs, MaxqTaxiArgs, MaxqTeleopArgs, MaxqTr
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::progress;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use usar_maxq::taxi::{TaxiConfig, run_taxi};
-use usar_plot::{Bar, BarChart, GroupedBarChart, LineChart, Series};
-use usar_rescue::analysis::{EvalAnalysis, MeanSd, analyse, mean_sd};
+use usar_plot::{LineChart, Series};
+use usar_rescue::analysis::{EvalAnalysis, analyse};
 use usar_rescue::evaluation::{EvalConfig, EvalRun, eval_scene, evaluate};
+use usar_rescue::figures;
 use usar_rescue::operator::OperatorProfile;
 use usar_rescue::policy::{PolicyFile, TrainingInfo};
-use usar_rescue::teleoperation::{ParticipantResult, study};
+use usar_rescue::teleoperation::{StudySummary, study};
 use usar_rescue::training::{TrainConfig, TrainReport, train};
 
 pub fn run(cmd: MaxqCommand) -> CmdResult {
@@ -48,9 +49,9 @@ fn train_command(args: MaxqTrainArgs) -> CmdResult {
     .save(&args.out)
     .input()?;
     if let Some(path) = &args.plot {
-        plot_training(&report, path).input()?;
+        figures::plot_training(&report, path).input()?;
     }
-    let ratio = report.maxq_q_values as f64 / report.flat_q_values.max(1) as f64;
+    let ratio = report.maxq_over_flat();
     if args.json {
         #[derive(Serialize)]
         struct Out<'a> {
@@ -80,61 +81,6 @@ fn train_command(args: MaxqTrainArgs) -> CmdResult {
     Ok(())
 }
 
-/// Fig. 7a (cumulative reward per trial, MAXQ and flat Q) and Fig. 7b (steps per trial, first
-/// 200 trials).
-fn plot_training(report: &TrainReport, path: &Path) -> anyhow::Result<()> {
-    let cumulative = |pick: &dyn Fn(&usar_rescue::training::TrialPoint) -> Option<f64>| {
-        let mut sum = 0.0;
-        report
-            .curve
-            .iter()
-            .filter_map(|p| {
-                sum += pick(p)?;
-                Some((f64::from(p.trial + 1), sum))
-            })
-            .collect::<Vec<_>>()
-    };
-    let mut series = vec![Series::line("MAXQ", cumulative(&|p| Some(p.maxq_reward)))];
-    let flat = cumulative(&|p| p.flat_reward);
-    if !flat.is_empty() {
-        series.push(Series::line("flat Q", flat));
-    }
-    LineChart {
-        title: "Cumulative reward per trial (paper 000 Fig. 7a)".into(),
-        x_label: "trial".into(),
-        y_label: "cumulative reward".into(),
-        series,
-        y_range: None,
-    }
-    .save(path)?;
-    let steps: Vec<(f64, f64)> = report
-        .curve
-        .iter()
-        .take(200)
-        .map(|p| (f64::from(p.trial + 1), p.maxq_steps as f64))
-        .collect();
-    LineChart {
-        title: "Exploration steps, first 200 trials (paper 000 Fig. 7b)".into(),
-        x_label: "trial".into(),
-        y_label: "steps".into(),
-        series: vec![Series::line("MAXQ", steps)],
-        y_range: None,
-    }
-    .save(&sibling(path, "-steps"))?;
-    Ok(())
-}
-
-/// `dir/name.ext` → `dir/name{suffix}.ext`.
-fn sibling(path: &Path, suffix: &str) -> PathBuf {
-    let stem = path
-        .file_stem()
-        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-    let ext = path
-        .extension()
-        .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
-    path.with_file_name(format!("{stem}{suffix}{ext}"))
-}
-
 /// `usar maxq eval`.
 fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     if args.reps == 0 {
@@ -154,23 +100,7 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     bar.finish_and_clear();
     let analysis = analyse(&runs, &config);
     if let Some(path) = &args.plot {
-        let mut bars = Vec::new();
-        for (name, s) in &analysis.scenes {
-            for (w, m) in &s.steps_by_weights {
-                bars.push(Bar {
-                    label: format!("{name} {w}"),
-                    value: m.mean,
-                    error: m.sd.unwrap_or(0.0),
-                });
-            }
-        }
-        BarChart {
-            title: "Exploration steps by scene and weight case (paper 000 Fig. 9)".into(),
-            y_label: "steps".into(),
-            bars,
-        }
-        .save(path)
-        .input()?;
+        figures::plot_evaluation(&analysis, path).input()?;
     }
     #[derive(Serialize)]
     struct Out<'a> {
@@ -236,41 +166,9 @@ fn teleop_command(args: MaxqTeleopArgs) -> CmdResult {
         args.seed,
     );
     if let Some(path) = &args.plot {
-        plot_study(&results, path).input()?;
+        figures::plot_study(&results, path).input()?;
     }
-    let mean =
-        |f: &dyn Fn(&ParticipantResult) -> f64| mean_sd(&results.iter().map(f).collect::<Vec<_>>());
-    #[derive(Serialize)]
-    struct Side {
-        victims_found: MeanSd,
-        false_identifications: MeanSd,
-        explored_percent: MeanSd,
-        collisions: MeanSd,
-        time_s: MeanSd,
-    }
-    #[derive(Serialize)]
-    struct Out<'a> {
-        participants: &'a [ParticipantResult],
-        semi_autonomous: Side,
-        teleoperated: Side,
-    }
-    let out = Out {
-        participants: &results,
-        semi_autonomous: Side {
-            victims_found: mean(&|p| f64::from(p.semi_autonomous.victims_found)),
-            false_identifications: mean(&|p| f64::from(p.semi_autonomous.false_identifications)),
-            explored_percent: mean(&|p| p.semi_autonomous.explored_percent),
-            collisions: mean(&|p| f64::from(p.semi_autonomous.collisions)),
-            time_s: mean(&|p| p.semi_autonomous.time_s),
-        },
-        teleoperated: Side {
-            victims_found: mean(&|p| f64::from(p.teleoperated.victims_found)),
-            false_identifications: mean(&|p| f64::from(p.teleoperated.false_identifications)),
-            explored_percent: mean(&|p| p.teleoperated.explored_percent),
-            collisions: mean(&|p| f64::from(p.teleoperated.collisions)),
-            time_s: mean(&|p| p.teleoperated.time_s),
-        },
-    };
+    let out = StudySummary::new(results);
     if args.json {
         return print_json(&out);
     }
@@ -285,47 +183,6 @@ fn teleop_command(args: MaxqTeleopArgs) -> CmdResult {
             side.collisions.mean,
             side.time_s.mean
         );
-    }
-    Ok(())
-}
-
-/// Paper 000 Fig. 16 (% explored), Fig. 17 (victims), Fig. 18 (collisions) and Table III
-/// (trial time): per participant, teleoperated beside semi-autonomous.
-fn plot_study(results: &[ParticipantResult], path: &Path) -> anyhow::Result<()> {
-    type Pick = fn(&usar_rescue::teleoperation::TrialResult) -> f64;
-    let figures: [(&str, &str, &str, Pick); 4] = [
-        (
-            "",
-            "Scene explored (paper 000 Fig. 16)",
-            "explored (%)",
-            |t| t.explored_percent,
-        ),
-        ("-victims", "Victims identified (Fig. 17)", "victims", |t| {
-            f64::from(t.victims_found)
-        }),
-        ("-collisions", "Collisions (Fig. 18)", "collisions", |t| {
-            f64::from(t.collisions)
-        }),
-        ("-time", "Trial time (Table III)", "time (s)", |t| t.time_s),
-    ];
-    for (suffix, title, y_label, pick) in figures {
-        GroupedBarChart {
-            title: title.into(),
-            x_label: "participant".into(),
-            y_label: y_label.into(),
-            groups: (1..=results.len()).map(|k| k.to_string()).collect(),
-            series: vec![
-                (
-                    "teleoperated".into(),
-                    results.iter().map(|p| pick(&p.teleoperated)).collect(),
-                ),
-                (
-                    "semi-autonomous".into(),
-                    results.iter().map(|p| pick(&p.semi_autonomous)).collect(),
-                ),
-            ],
-        }
-        .save(&sibling(path, suffix))?;
     }
     Ok(())
 }
