@@ -2,7 +2,8 @@
 //! SQLite database written while a robot drives ([`store`]), JSON / GraphML exchange
 //! ([`exchange`]), the compact binary form for radio links ([`wire`]), autonomous generation by a robot exploring in the simulator ([`build`])
 //! and its locomotion behaviours ([`locomotion`]). Every map read from a file is checked
-//! ([`validate`]) before it is used.
+//! ([`validate`]) before it is used. [`report`] has what the `usar btm` commands write and show
+//! (a map built into its file, its drawing, the trajectory CSV, sizes, the JSON view).
 
 pub mod build;
 pub mod exchange;
@@ -11,6 +12,7 @@ pub mod merge;
 pub mod model;
 pub mod plan;
 pub mod render;
+pub mod report;
 pub mod store;
 pub mod validate;
 pub mod wire;

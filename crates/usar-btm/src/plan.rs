@@ -16,6 +16,17 @@ pub struct RobotLimits {
     pub max_step_m: f64,
 }
 
+impl RobotLimits {
+    /// The limits of a simulated robot model: its width, steepest inclination and highest step.
+    pub fn of(robot: &usar_sim::RobotSpec) -> Self {
+        RobotLimits {
+            width_m: robot.width_m,
+            max_inclination_rad: robot.max_inclination_rad,
+            max_step_m: robot.max_step_m,
+        }
+    }
+}
+
 /// A route: node ids from start to goal, the links between them, and its length.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Route {
@@ -236,4 +247,32 @@ pub fn nearest_node(btm: &Btm, x: f64, y: f64) -> Option<&Node> {
             .hypot(a.y_m - y)
             .total_cmp(&(b.x_m - x).hypot(b.y_m - y))
     })
+}
+
+/// Why a node named by a user could not be found ([`find_node`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum NodeRefError {
+    /// Neither a node id nor "x,y".
+    #[error("{0:?}: expected a node id or \"x,y\" in metres")]
+    Malformed(String),
+    /// A position was given and the map has no nodes.
+    #[error("the map has no nodes")]
+    EmptyMap,
+}
+
+/// A node named as a user names one: its id, or "x,y" in metres (the nearest node). An id is
+/// not checked against the map ([`plan`] says when it is not there).
+pub fn find_node(btm: &Btm, s: &str) -> Result<u32, NodeRefError> {
+    if let Ok(id) = s.trim().parse::<u32>() {
+        return Ok(id);
+    }
+    let xy = s
+        .split_once(',')
+        .and_then(|(x, y)| Some((x.trim().parse::<f64>().ok()?, y.trim().parse::<f64>().ok()?)));
+    let Some((x, y)) = xy else {
+        return Err(NodeRefError::Malformed(s.to_string()));
+    };
+    nearest_node(btm, x, y)
+        .map(|n| n.id)
+        .ok_or(NodeRefError::EmptyMap)
 }

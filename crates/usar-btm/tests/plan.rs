@@ -119,3 +119,35 @@ fn merged_maps_share_nodes_and_keep_the_most_restrictive_values() {
     assert_eq!(m.unsearched().count(), 0);
     assert_eq!(m.links.len(), 2);
 }
+
+#[test]
+fn nodes_are_named_by_id_or_by_the_nearest_position() {
+    use usar_btm::plan::{NodeRefError, find_node};
+    let map = diamond();
+    assert_eq!(find_node(&map, " 7 "), Ok(7));
+    assert_eq!(find_node(&map, "5.9, 0.2"), Ok(4));
+    assert_eq!(
+        find_node(&map, "north"),
+        Err(NodeRefError::Malformed("north".into()))
+    );
+    assert_eq!(
+        find_node(&Btm::default(), "1,2"),
+        Err(NodeRefError::EmptyMap)
+    );
+}
+
+#[test]
+fn reports_count_unknown_kinds_and_name_the_partial_file() {
+    use usar_btm::report::{describe, partial_path, unknown_kinds};
+    let mut map = diamond();
+    assert!(unknown_kinds(&map).is_empty());
+    map.nodes.push(Node::new(9, 1.0, 1.0, "ladder", None));
+    assert_eq!(unknown_kinds(&map).get("ladder"), Some(&1));
+    let v = describe(&map);
+    assert_eq!(v["links_searched"], 4);
+    assert_eq!(v["nodes"].as_array().map(Vec::len), Some(5));
+    assert_eq!(
+        partial_path(std::path::Path::new("out/map.btm")),
+        std::path::Path::new("out/map.btm.partial")
+    );
+}

@@ -5,12 +5,12 @@ use crate::cli::{BtmBuildArgs, BtmCommand, BtmExportArgs, BtmMergeArgs, BtmPlanA
 use crate::failure::{CmdResult, Failure, InputContext, bad_input};
 use crate::{progress, scene_source};
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-use usar_btm::build::{BuildConfig, build_btm_observed};
-use usar_btm::model::kind;
-use usar_btm::plan::{RobotLimits, nearest_node, plan};
-use usar_btm::{Btm, BtmStore, exchange, render};
+use usar_btm::build::BuildConfig;
+use usar_btm::plan::{NodeRefError, RobotLimits, find_node, plan};
+use usar_btm::report::{self, ReportError, Sizes};
+use usar_btm::{Btm, exchange};
 use usar_world::{Point2, Pose2};
 
 pub fn run(cmd: BtmCommand) -> CmdResult {
@@ -25,6 +25,15 @@ pub fn run(cmd: BtmCommand) -> CmdResult {
 
 fn read(path: &Path) -> CmdResult<Btm> {
     exchange::read(path).input()
+}
+
+/// Report errors keep their kind: bad input exits 2, anything else 1.
+fn fail(e: ReportError) -> Failure {
+    if e.is_input() {
+        bad_input(e)
+    } else {
+        Failure::from(e)
+    }
 }
 
 fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
@@ -43,17 +52,6 @@ fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
     Ok(config)
 }
 
-/// The file a build writes while the robot drives.
-fn partial_path(out: &Path) -> PathBuf {
-    let mut name = out.as_os_str().to_owned();
-    name.push(".partial");
-    PathBuf::from(name)
-}
-
-fn file_len(path: &Path) -> CmdResult<u64> {
-    Ok(std::fs::metadata(path)?.len())
-}
-
 fn build(args: BtmBuildArgs) -> CmdResult {
     let mut scene = scene_source::load(&args.scene, args.scene_seed, &args.image)?;
     if let Some((x, y, theta)) = args.start {
@@ -61,99 +59,36 @@ fn build(args: BtmBuildArgs) -> CmdResult {
     }
     let robot = scene_source::load_robot(&args.robot)?;
     let config = build_config(&args)?;
-    let partial = partial_path(&args.out);
-    if partial.exists() {
-        std::fs::remove_file(&partial)?;
-    }
-    let store = BtmStore::create(&partial).input()?;
     let scene = Arc::new(scene);
     let bar = progress::bar(config.max_time_s.ceil() as u64, "simulated s", args.json);
-    let built = build_btm_observed(
+    let built = report::build_to_file(
         scene.clone(),
         robot.clone(),
         &config,
         args.seed,
-        Some(&store),
+        &args.out,
         &mut |t, _, _| bar.set_position(t as u64),
     );
     bar.finish_and_clear();
-    drop(store);
-    let outcome = match built {
-        Ok(o) => o,
-        Err(e) => {
-            let _ = std::fs::remove_file(&partial);
-            return Err(bad_input(e));
-        }
-    };
-    std::fs::rename(&partial, &args.out)?;
+    let outcome = built.map_err(fail)?;
     if let Some(png) = &args.png {
-        if png
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
-        {
-            usar_world::write_atomic(png, render::to_svg(&outcome.btm).as_bytes())?;
-        } else {
-            let trace: Vec<Point2> = outcome
-                .trajectory
-                .iter()
-                .map(|s| s.truth.position())
-                .collect();
-            render::draw_traced(&outcome.btm, Some(&scene), &trace)
-                .save_png(png)
-                .input()?;
-        }
+        let trace: Vec<Point2> = outcome
+            .trajectory
+            .iter()
+            .map(|s| s.truth.position())
+            .collect();
+        report::save_drawing(&outcome.btm, Some(&scene), &trace, png).map_err(fail)?;
     }
     if let Some(path) = &args.trace {
-        let mut csv = String::from(
-            "time_s,est_x_m,est_y_m,est_theta_rad,true_x_m,true_y_m,true_theta_rad,mode,contact\n",
-        );
-        for t in &outcome.trajectory {
-            csv += &format!(
-                "{:.2},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{}\n",
-                t.time_s,
-                t.estimated.x,
-                t.estimated.y,
-                t.estimated.theta,
-                t.truth.x,
-                t.truth.y,
-                t.truth.theta,
-                t.mode.as_str(),
-                u8::from(t.contact)
-            );
-        }
-        usar_world::write_atomic(path, csv.as_bytes())?;
+        usar_world::write_atomic(path, report::trajectory_csv(&outcome.trajectory).as_bytes())?;
     }
-    // The occupancy grid of the same floor: one byte per cell (a ROS map_server PGM's raster).
-    let grid_bytes = scene.geometry().len() as u64;
-    let sqlite_bytes = file_len(&args.out)?;
-    let json_bytes = serde_json::to_string(&exchange::to_json_value(&outcome.btm))?.len() as u64;
-    let binary_bytes = usar_btm::wire::encode(&outcome.btm).len() as u64;
-    let sizes = json!({
-        "btm_binary": binary_bytes,
-        "btm_json": json_bytes,
-        "btm_sqlite": sqlite_bytes,
-        "occupancy_grid": grid_bytes,
-        "grid_over_binary": grid_bytes as f64 / binary_bytes as f64,
-        "grid_over_json": grid_bytes as f64 / json_bytes as f64,
-        "grid_over_sqlite": grid_bytes as f64 / sqlite_bytes as f64,
-    });
+    let sizes = Sizes::measure(&outcome.btm, &args.out, scene.geometry().len()).map_err(fail)?;
     if args.json {
-        let mut v = describe(&outcome.btm);
-        let extra = json!({
-            "scene": scene.name,
-            "robot": robot.name,
-            "seed": args.seed,
-            "out": args.out,
-            "stop": outcome.stop,
-            "time_s": outcome.time_s,
-            "distance_m": outcome.distance_m,
-            "collisions": outcome.collisions,
-            "max_position_error_m": outcome.max_position_error_m,
-            "bytes": sizes,
-        });
-        for (k, val) in extra.as_object().expect("object") {
-            v[k] = val.clone();
-        }
+        let mut v = report::describe_build(&outcome, &sizes);
+        v["scene"] = json!(scene.name);
+        v["robot"] = json!(robot.name);
+        v["seed"] = json!(args.seed);
+        v["out"] = json!(args.out);
         return print_json(&v);
     }
     println!(
@@ -169,11 +104,11 @@ fn build(args: BtmBuildArgs) -> CmdResult {
         outcome.distance_m,
         outcome.collisions,
         args.out.display(),
-        binary_bytes,
-        json_bytes,
-        sqlite_bytes,
-        grid_bytes,
-        grid_bytes as f64 / binary_bytes as f64,
+        sizes.btm_binary,
+        sizes.btm_json,
+        sizes.btm_sqlite,
+        sizes.occupancy_grid,
+        sizes.grid_over_binary,
     );
     Ok(())
 }
@@ -184,17 +119,11 @@ fn show(args: BtmShowArgs) -> CmdResult {
         .out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if svg {
-        usar_world::write_atomic(&args.out, render::to_svg(&btm).as_bytes())?;
-    } else {
-        let scene = match &args.scene {
-            Some(spec) => Some(scene_source::load(spec, args.seed, &args.image)?),
-            None => None,
-        };
-        render::draw(&btm, scene.as_ref())
-            .save_png(&args.out)
-            .input()?;
-    }
+    let scene = match &args.scene {
+        Some(spec) if !svg => Some(scene_source::load(spec, args.seed, &args.image)?),
+        _ => None,
+    };
+    report::save_drawing(&btm, scene.as_ref(), &[], &args.out).map_err(fail)?;
     if args.json {
         print_json(&json!({ "out": args.out, "nodes": btm.nodes.len(), "links": btm.links.len() }))
     } else {
@@ -208,32 +137,16 @@ fn show(args: BtmShowArgs) -> CmdResult {
     }
 }
 
-/// Every node with its Table I fields (links, angles) and every link.
-fn describe(btm: &Btm) -> serde_json::Value {
-    let by_kind = usar_btm::build::count_nodes(btm);
-    let searched = btm.links.iter().filter(|l| l.searched).count();
-    json!({
-        "nodes_by_kind": by_kind,
-        "links_searched": searched,
-        "links_unsearched": btm.links.len() - searched,
-        "nodes": exchange::node_rows(btm),
-        "links": btm.links,
-    })
-}
-
 fn export(args: BtmExportArgs) -> CmdResult {
     let btm = read(&args.btm)?;
     if let Some(out) = &args.out {
         exchange::write(&btm, out).input()?;
     }
     if args.json {
-        return print_json(&describe(&btm));
+        return print_json(&report::describe(&btm));
     }
     // Kinds this version does not know are kept as read; say which there are.
-    let mut unknown: std::collections::BTreeMap<&str, usize> = Default::default();
-    for n in btm.nodes.iter().filter(|n| !kind::is_known(&n.kind)) {
-        *unknown.entry(n.kind.as_str()).or_default() += 1;
-    }
+    let unknown = report::unknown_kinds(&btm);
     let unknown = if unknown.is_empty() {
         String::new()
     } else {
@@ -258,33 +171,20 @@ fn export(args: BtmExportArgs) -> CmdResult {
 
 /// A node given as an id or as "x,y" (the nearest node).
 fn node_arg(btm: &Btm, name: &str, s: &str) -> CmdResult<u32> {
-    if let Ok(id) = s.trim().parse::<u32>() {
-        return Ok(id);
-    }
-    let xy = s
-        .split_once(',')
-        .and_then(|(x, y)| Some((x.trim().parse::<f64>().ok()?, y.trim().parse::<f64>().ok()?)));
-    let Some((x, y)) = xy else {
-        return Err(bad_input(anyhow::anyhow!(
-            "{name} {s:?}: expected a node id or \"x,y\" in metres"
-        )));
-    };
-    nearest_node(btm, x, y)
-        .map(|n| n.id)
-        .ok_or_else(|| bad_input(anyhow::anyhow!("{name}: the map has no nodes")))
+    find_node(btm, s).map_err(|e| {
+        bad_input(match e {
+            NodeRefError::Malformed(_) => anyhow::anyhow!("{name} {e}"),
+            NodeRefError::EmptyMap => anyhow::anyhow!("{name}: {e}"),
+        })
+    })
 }
 
 fn route(args: BtmPlanArgs) -> CmdResult {
     let btm = read(&args.btm)?;
     let robot = scene_source::load_robot(&args.robot)?;
-    let limits = RobotLimits {
-        width_m: robot.width_m,
-        max_inclination_rad: robot.max_inclination_rad,
-        max_step_m: robot.max_step_m,
-    };
     let from = node_arg(&btm, "--from", &args.from)?;
     let to = node_arg(&btm, "--to", &args.to)?;
-    match plan(&btm, &limits, from, to) {
+    match plan(&btm, &RobotLimits::of(&robot), from, to) {
         Ok(r) => {
             if args.json {
                 print_json(&json!({ "found": true, "robot": robot.name, "route": r }))
