@@ -9,12 +9,9 @@ use serde_json::json;
 use std::path::Path;
 use usar_map::segmentation::evaluate::{
     ClassScore, RoomScore, scene_truth, score_classes, score_rooms, truth_classes_from_image,
-    truth_rooms_from_image,
+    truth_image, truth_rooms_from_image,
 };
-use usar_map::segmentation::{Segmentation, SegmentationParams, segment_scene};
-use usar_world::io::image_map::{DecodedImage, decode_image};
-use usar_world::render::Canvas;
-use usar_world::{RoomLabel, Scene};
+use usar_map::segmentation::{SegmentationParams, segment_scene};
 
 pub fn run(args: SceneSegmentArgs) -> CmdResult {
     let mut scene = scene_source::load_spec(&args.source)?;
@@ -33,7 +30,7 @@ pub fn run(args: SceneSegmentArgs) -> CmdResult {
     let rooms = match &args.truth_rooms {
         Some(path) => Some(score_rooms(
             &seg.labels(),
-            &truth_rooms_from_image(&truth_image(path, &scene)?),
+            &truth_rooms_from_image(&truth_image(path, &scene).input()?),
         )),
         None => args
             .against_layer
@@ -42,14 +39,14 @@ pub fn run(args: SceneSegmentArgs) -> CmdResult {
     let classes = match &args.truth_classes {
         Some(path) => Some(score_classes(
             &seg.corridor_classes(),
-            &truth_classes_from_image(&truth_image(path, &scene)?),
+            &truth_classes_from_image(&truth_image(path, &scene).input()?),
         )),
         None => args
             .against_layer
             .then(|| score_classes(&seg.corridor_classes(), &own_classes)),
     };
     if let Some(png) = &args.png {
-        draw(&scene, &seg).save_png(png).input()?;
+        seg.draw(&scene).save_png(png).input()?;
     }
     seg.apply_to(&mut scene);
     if let Some(out) = &args.output {
@@ -121,65 +118,4 @@ fn read_params(path: &Path) -> CmdResult<SegmentationParams> {
         .check()
         .map_err(|e| bad_input(anyhow::anyhow!("{}: {e}", path.display())))?;
     Ok(params)
-}
-
-/// A ground-truth image of the scene's size.
-fn truth_image(path: &Path, scene: &Scene) -> CmdResult<DecodedImage> {
-    let bytes = usar_world::limits::read_file(path).input()?;
-    let image = decode_image(&bytes, path).input()?;
-    let g = scene.geometry();
-    if (image.width, image.height) != (g.width, g.height) {
-        return Err(bad_input(anyhow::anyhow!(
-            "{}: {}×{} pixels, expected the map's {}×{}",
-            path.display(),
-            image.width,
-            image.height,
-            g.width,
-            g.height
-        )));
-    }
-    Ok(image)
-}
-
-/// Segments in distinct colours (rooms saturated, corridors pale), walls dark, doors as crosses.
-fn draw(scene: &Scene, seg: &Segmentation) -> Canvas {
-    let g = *scene.geometry();
-    let mut canvas = Canvas::fit(g, 1600);
-    canvas.fill([60, 60, 60]);
-    for (i, &l) in seg.room_id.as_slice().iter().enumerate() {
-        let cell = g.cell_of_index(i);
-        let rgb = if l == 0 {
-            if scene.is_obstacle(cell) {
-                [30, 30, 30]
-            } else {
-                [255, 255, 255]
-            }
-        } else {
-            let s = &seg.segments[usize::from(l) - 1];
-            segment_colour(l, s.label == RoomLabel::Corridor)
-        };
-        canvas.fill_cell(cell, rgb);
-    }
-    for d in &seg.doors {
-        canvas.draw_cross(d.position, d.width_m.max(0.6), [220, 0, 0]);
-    }
-    canvas
-}
-
-/// A colour per segment: hues spaced by the golden angle; corridors pale.
-fn segment_colour(id: u16, corridor: bool) -> [u8; 3] {
-    let hue = (f64::from(id) * 137.507_764) % 360.0;
-    let (s, v) = if corridor { (0.15, 0.95) } else { (0.6, 0.9) };
-    let c = v * s;
-    let x = c * (1.0 - ((hue / 60.0) % 2.0 - 1.0).abs());
-    let (r, g, b) = match (hue / 60.0) as u32 {
-        0 => (c, x, 0.0),
-        1 => (x, c, 0.0),
-        2 => (0.0, c, x),
-        3 => (0.0, x, c),
-        4 => (x, 0.0, c),
-        _ => (c, 0.0, x),
-    };
-    let m = v - c;
-    [r, g, b].map(|u| ((u + m) * 255.0).round() as u8)
 }

@@ -189,3 +189,38 @@ pub fn scene_truth(scene: &Scene) -> (Vec<u32>, Vec<Option<bool>>) {
         })
         .unzip()
 }
+
+/// Why a ground-truth image could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum TruthImageError {
+    /// The file could not be read or decoded.
+    #[error(transparent)]
+    Read(#[from] usar_world::WorldError),
+    /// The image is not the map's size.
+    #[error("{path}: {found_width}×{found_height} pixels, expected the map's {width}×{height}")]
+    Size {
+        path: String,
+        found_width: u32,
+        found_height: u32,
+        width: u32,
+        height: u32,
+    },
+}
+
+/// Reads a ground-truth image ([`truth_rooms_from_image`], [`truth_classes_from_image`]) and
+/// checks that it has one pixel per cell of `scene`'s grid.
+pub fn truth_image(path: &std::path::Path, scene: &Scene) -> Result<DecodedImage, TruthImageError> {
+    let bytes = usar_world::limits::read_file(path)?;
+    let image = usar_world::io::image_map::decode_image(&bytes, path)?;
+    let g = scene.geometry();
+    if (image.width, image.height) != (g.width, g.height) {
+        return Err(TruthImageError::Size {
+            path: path.display().to_string(),
+            found_width: image.width,
+            found_height: image.height,
+            width: g.width,
+            height: g.height,
+        });
+    }
+    Ok(image)
+}

@@ -13,6 +13,7 @@
 //! [`evaluate`] scores a segmentation against a ground truth (Bormann et al. 2016's per-room
 //! recall and precision, best-match Jaccard, room-vs-corridor pixel accuracy).
 
+mod draw;
 pub mod edt;
 pub mod evaluate;
 mod layer;
