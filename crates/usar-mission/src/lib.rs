@@ -56,6 +56,9 @@ pub enum MissionError {
     NotEnoughRoom { available: usize, requested: usize },
     #[error(transparent)]
     Team(#[from] TeamError),
+    /// A `[team]` setting named something unknown or held a value out of range.
+    #[error("mission field team.{0}")]
+    TeamSetting(#[from] usar_team::setup::SetupError),
     #[error(transparent)]
     Placement(#[from] PlacementError),
     #[error(transparent)]
@@ -187,7 +190,7 @@ pub fn run_mission(
         radio: Radio::default(),
         failures: Vec::new(),
     };
-    let mut team_config = setup.config().map_err(|m| bad("team", m))?;
+    let mut team_config = setup.config()?;
     team_config.sim.robots_in_lasers = config.robots_in_lasers;
     let crawler = match &config.crawler {
         Some(c) => {

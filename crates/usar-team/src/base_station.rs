@@ -80,8 +80,14 @@ impl BaseStation {
         self.keep_out.push((a, b, radius_m));
         let g = *self.merged.geometry();
         let (lo, hi) = (
-            g.world_to_cell(Point2::new(a.x.min(b.x) - radius_m, a.y.min(b.y) - radius_m)),
-            g.world_to_cell(Point2::new(a.x.max(b.x) + radius_m, a.y.max(b.y) + radius_m)),
+            g.world_to_cell(Point2::new(
+                a.x.min(b.x) - radius_m,
+                a.y.min(b.y) - radius_m,
+            )),
+            g.world_to_cell(Point2::new(
+                a.x.max(b.x) + radius_m,
+                a.y.max(b.y) + radius_m,
+            )),
         );
         for row in lo.row..=hi.row {
             for col in lo.col..=hi.col {

@@ -31,13 +31,40 @@ pub struct FuzzyMeasure {
     mu: Vec<f64>,
 }
 
+/// Why a fuzzy measure was refused; each names the subset and the value.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MeasureError {
+    #[error("a fuzzy measure needs 1 to 16 criteria, found {0}")]
+    Criteria(usize),
+    #[error("weight of {{{subset}}}: unknown criterion `{criterion}`, expected one of {expected}")]
+    UnknownCriterion {
+        subset: String,
+        criterion: String,
+        expected: String,
+    },
+    #[error("weight of {{{subset}}}: found {found}, expected a number in [0, 1]")]
+    Weight { subset: String, found: f64 },
+    #[error("the weight of criterion `{0}` alone is missing")]
+    MissingSingleton(String),
+    #[error(
+        "μ({subset}) = {found} is below μ of one of its subsets ({below}); a fuzzy measure is monotone"
+    )]
+    NotMonotone {
+        subset: String,
+        found: f64,
+        below: f64,
+    },
+    #[error("μ(N) must be 1, found {0}")]
+    Whole(f64),
+}
+
 impl FuzzyMeasure {
     /// Completes `spec` (unlisted subsets: sum of singletons, made monotone, capped at 1;
     /// μ(N) = 1) and checks it. Errors name the subset and the value.
-    pub fn new(spec: &MeasureSpec) -> Result<Self, String> {
+    pub fn new(spec: &MeasureSpec) -> Result<Self, MeasureError> {
         let n = spec.criteria.len();
         if n == 0 || n > 16 {
-            return Err(format!("a fuzzy measure needs 1 to 16 criteria, found {n}"));
+            return Err(MeasureError::Criteria(n));
         }
         let full = (1usize << n) - 1;
         let mut given: Vec<Option<f64>> = vec![None; full + 1];
@@ -45,25 +72,25 @@ impl FuzzyMeasure {
             let mut mask = 0usize;
             for c in subset {
                 let i = spec.criteria.iter().position(|x| x == c).ok_or_else(|| {
-                    format!(
-                        "weight of {{{}}}: unknown criterion `{c}`, expected one of {}",
-                        subset.join(", "),
-                        spec.criteria.join(", ")
-                    )
+                    MeasureError::UnknownCriterion {
+                        subset: subset.join(", "),
+                        criterion: c.clone(),
+                        expected: spec.criteria.join(", "),
+                    }
                 })?;
                 mask |= 1 << i;
             }
             if !(w.is_finite() && (0.0..=1.0).contains(w)) {
-                return Err(format!(
-                    "weight of {{{}}}: found {w}, expected a number in [0, 1]",
-                    subset.join(", ")
-                ));
+                return Err(MeasureError::Weight {
+                    subset: subset.join(", "),
+                    found: *w,
+                });
             }
             given[mask] = Some(*w);
         }
         for (i, c) in spec.criteria.iter().enumerate() {
             if given[1 << i].is_none() {
-                return Err(format!("the weight of criterion `{c}` alone is missing"));
+                return Err(MeasureError::MissingSingleton(c.clone()));
             }
         }
         let name = |mask: usize| {
@@ -86,10 +113,11 @@ impl FuzzyMeasure {
                 1.0
             } else if let Some(w) = given[mask] {
                 if w < below {
-                    return Err(format!(
-                        "μ({}) = {w} is below μ of one of its subsets ({below}); a fuzzy measure is monotone",
-                        name(mask)
-                    ));
+                    return Err(MeasureError::NotMonotone {
+                        subset: name(mask),
+                        found: w,
+                        below,
+                    });
                 }
                 w
             } else {
@@ -103,7 +131,7 @@ impl FuzzyMeasure {
         if let Some(w) = given[full]
             && (w - 1.0).abs() > 1e-12
         {
-            return Err(format!("μ(N) must be 1, found {w}"));
+            return Err(MeasureError::Whole(w));
         }
         Ok(Self {
             criteria: spec.criteria.clone(),

@@ -37,14 +37,19 @@ pub enum LabelErrors {
     UntilKnown { threshold: f64 },
 }
 
+/// Why a semantic error model was refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LabelErrorsError {
+    #[error("label errors: found {0:?}, expected perfect, random:RATE or until-known:FRACTION")]
+    Form(String),
+    #[error("{name}: found {found}, expected a fraction in [0, 1]")]
+    Fraction { name: &'static str, found: f64 },
+}
+
 impl LabelErrors {
     /// Reads `perfect`, `random:RATE` or `until-known:FRACTION`.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let bad = || {
-            format!(
-                "label errors: found {text:?}, expected perfect, random:RATE or until-known:FRACTION"
-            )
-        };
+    pub fn parse(text: &str) -> Result<Self, LabelErrorsError> {
+        let bad = || LabelErrorsError::Form(text.to_string());
         let errors = match text.split_once(':') {
             None if text == "perfect" => LabelErrors::Perfect,
             Some((kind, v)) => {
@@ -61,7 +66,7 @@ impl LabelErrors {
         Ok(errors)
     }
 
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), LabelErrorsError> {
         let (name, v) = match *self {
             LabelErrors::Perfect => return Ok(()),
             LabelErrors::Random { rate } => ("label error rate", rate),
@@ -70,7 +75,7 @@ impl LabelErrors {
         if (0.0..=1.0).contains(&v) {
             Ok(())
         } else {
-            Err(format!("{name}: found {v}, expected a fraction in [0, 1]"))
+            Err(LabelErrorsError::Fraction { name, found: v })
         }
     }
 }

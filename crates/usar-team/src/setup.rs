@@ -5,7 +5,7 @@
 use crate::coordination::Coordination;
 use crate::criteria::Hypothesis;
 use crate::room_candidates::CandidateGrouping;
-use crate::semantic_map::LabelErrors;
+use crate::semantic_map::{LabelErrors, LabelErrorsError};
 use crate::{Exploration, Localization, Radio, RobotFailure, Semantics, Strategy, TeamConfig};
 
 /// The robot of a team run when none is named: the wheeled robot at paper 002's pace
@@ -33,58 +33,97 @@ pub struct TeamSetup<'a> {
     pub failures: Vec<RobotFailure>,
 }
 
+/// Why a named setting of a team run was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// A name that is not one of the setting's choices.
+    #[error("{setting}: found {found:?}, expected {expected}")]
+    Choice {
+        setting: &'static str,
+        found: String,
+        expected: &'static str,
+    },
+    /// A number outside the setting's range.
+    #[error("{setting}: found {found}, expected {expected}")]
+    Range {
+        setting: &'static str,
+        found: String,
+        expected: &'static str,
+    },
+    #[error(transparent)]
+    LabelErrors(#[from] LabelErrorsError),
+    #[error(transparent)]
+    Robot(#[from] usar_sim::SimError),
+}
+
+/// The choice `found` of `setting` by `parse`, or the error naming the choices.
+fn choose<T>(
+    setting: &'static str,
+    found: &str,
+    expected: &'static str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<T, SetupError> {
+    parse(found).ok_or_else(|| SetupError::Choice {
+        setting,
+        found: found.to_string(),
+        expected,
+    })
+}
+
 impl TeamSetup<'_> {
     /// The mission configuration; errors name the argument and what was expected.
-    pub fn config(&self) -> Result<TeamConfig, String> {
-        let strategy = Strategy::from_name(self.strategy).ok_or_else(|| {
-            format!(
-                "strategy: found {:?}, expected random, distance, d-mcdm, s-mcdm or nearest",
-                self.strategy
-            )
-        })?;
-        let coordination = Coordination::from_name(self.coordination).ok_or_else(|| {
-            format!(
-                "coordination: found {:?}, expected sr, mrv1 or mrv2",
-                self.coordination
-            )
-        })?;
-        let hypothesis = Hypothesis::named(self.hypothesis).ok_or_else(|| {
-            format!(
-                "hypothesis: found {:?}, expected big or small",
-                self.hypothesis
-            )
-        })?;
-        let candidates = CandidateGrouping::from_name(self.candidates).ok_or_else(|| {
-            format!(
-                "candidates: found {:?}, expected room or cluster",
-                self.candidates
-            )
-        })?;
-        let semantics = Semantics::parse(self.semantics).ok_or_else(|| {
-            format!(
-                "semantics: found {:?}, expected oracle or segmented",
-                self.semantics
-            )
-        })?;
-        let localization = Localization::parse(self.localization).ok_or_else(|| {
-            format!(
-                "localization: found {:?}, expected true or estimated",
-                self.localization
-            )
-        })?;
+    pub fn config(&self) -> Result<TeamConfig, SetupError> {
+        let strategy = choose(
+            "strategy",
+            self.strategy,
+            "random, distance, d-mcdm, s-mcdm or nearest",
+            Strategy::from_name,
+        )?;
+        let coordination = choose(
+            "coordination",
+            self.coordination,
+            "sr, mrv1 or mrv2",
+            Coordination::from_name,
+        )?;
+        let hypothesis = choose(
+            "hypothesis",
+            self.hypothesis,
+            "big or small",
+            Hypothesis::named,
+        )?;
+        let candidates = choose(
+            "candidates",
+            self.candidates,
+            "room or cluster",
+            CandidateGrouping::from_name,
+        )?;
+        let semantics = choose(
+            "semantics",
+            self.semantics,
+            "oracle or segmented",
+            Semantics::parse,
+        )?;
+        let localization = choose(
+            "localization",
+            self.localization,
+            "true or estimated",
+            Localization::parse,
+        )?;
         if !(self.minutes.is_finite() && self.minutes > 0.0) {
-            return Err(format!(
-                "minutes: found {}, expected a positive number",
-                self.minutes
-            ));
+            return Err(SetupError::Range {
+                setting: "minutes",
+                found: self.minutes.to_string(),
+                expected: "a positive number",
+            });
         }
         if !(self.merge_period_s.is_finite() && self.merge_period_s > 0.0) {
-            return Err(format!(
-                "merge period: found {} s, expected a positive number of seconds",
-                self.merge_period_s
-            ));
+            return Err(SetupError::Range {
+                setting: "merge period",
+                found: format!("{} s", self.merge_period_s),
+                expected: "a positive number of seconds",
+            });
         }
-        let robot = usar_sim::RobotSpec::load(self.robot).map_err(|e| e.to_string())?;
+        let robot = usar_sim::RobotSpec::load(self.robot)?;
         let exploration = Exploration {
             strategy,
             coordination,
@@ -106,8 +145,12 @@ impl TeamSetup<'_> {
 }
 
 /// Reads `ROBOT@SECONDS`.
-pub fn parse_failure(text: &str) -> Result<RobotFailure, String> {
-    let bad = || format!("--fail: found {text:?}, expected ROBOT@SECONDS, e.g. 2@300");
+pub fn parse_failure(text: &str) -> Result<RobotFailure, SetupError> {
+    let bad = || SetupError::Choice {
+        setting: "--fail",
+        found: text.to_string(),
+        expected: "ROBOT@SECONDS, e.g. 2@300",
+    };
     let (robot, at) = text.split_once('@').ok_or_else(bad)?;
     let robot = robot.trim().parse().map_err(|_| bad())?;
     let at_s: f64 = at.trim().parse().map_err(|_| bad())?;

@@ -1,7 +1,7 @@
 //! The Choquet integral and fuzzy measures of paper 002.
 
 use usar_team::mcdm::{
-    FuzzyMeasure, MeasureSpec, Sense, d_mcdm_table_1, normalize, s_mcdm_table_1,
+    FuzzyMeasure, MeasureError, MeasureSpec, Sense, d_mcdm_table_1, normalize, s_mcdm_table_1,
 };
 
 fn mask(m: &FuzzyMeasure, names: &[&str]) -> usize {
@@ -56,18 +56,22 @@ fn choquet_integral_follows_equation_1() {
 fn bad_measures_are_errors_naming_the_subset() {
     let mut spec = d_mcdm_table_1();
     spec.weights.push((vec!["A".into(), "z".into()], 0.5));
+    let err = FuzzyMeasure::new(&spec).unwrap_err();
     assert!(
-        FuzzyMeasure::new(&spec)
-            .unwrap_err()
-            .contains("unknown criterion `z`")
+        matches!(&err, MeasureError::UnknownCriterion { criterion, .. } if criterion == "z"),
+        "{err:?}"
     );
+    assert!(err.to_string().contains("unknown criterion `z`"), "{err}");
     let mut spec = d_mcdm_table_1();
     spec.weights[3].1 = 0.1; // μ({A, d}) below μ({A}) = 0.4
     let err = FuzzyMeasure::new(&spec).unwrap_err();
-    assert!(err.contains("μ({A, d}) = 0.1"), "{err}");
+    assert!(err.to_string().contains("μ({A, d}) = 0.1"), "{err}");
     let mut spec = d_mcdm_table_1();
     spec.weights.remove(2);
-    assert!(FuzzyMeasure::new(&spec).unwrap_err().contains("`b` alone"));
+    assert_eq!(
+        FuzzyMeasure::new(&spec).unwrap_err(),
+        MeasureError::MissingSingleton("b".into())
+    );
 }
 
 #[test]

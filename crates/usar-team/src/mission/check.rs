@@ -34,12 +34,16 @@ impl TeamConfig {
         }
         let x = &self.exploration;
         let measures = Measures {
-            s_mcdm: FuzzyMeasure::new(&x.s_mcdm)
-                .map_err(|e| MissionError::Config(format!("S-MCDM measure: {e}")))?,
-            d_mcdm: FuzzyMeasure::new(&x.d_mcdm)
-                .map_err(|e| MissionError::Config(format!("D-MCDM measure: {e}")))?,
+            s_mcdm: FuzzyMeasure::new(&x.s_mcdm).map_err(|source| MissionError::Measure {
+                which: "S-MCDM",
+                source,
+            })?,
+            d_mcdm: FuzzyMeasure::new(&x.d_mcdm).map_err(|source| MissionError::Measure {
+                which: "D-MCDM",
+                source,
+            })?,
         };
-        x.label_errors.check().map_err(MissionError::Config)?;
+        x.label_errors.check()?;
         if x.bid_grid_factor == 0 || x.max_robots_per_candidate == 0 {
             return Err(MissionError::Config(
                 "bid_grid_factor and max_robots_per_candidate must be at least 1".into(),

@@ -62,6 +62,15 @@ pub enum MissionError {
     /// The configuration is invalid.
     #[error("invalid team configuration: {0}")]
     Config(String),
+    /// A fuzzy measure of the configuration is invalid.
+    #[error("invalid team configuration: {which} measure: {source}")]
+    Measure {
+        which: &'static str,
+        source: crate::mcdm::MeasureError,
+    },
+    /// The semantic error model is invalid.
+    #[error("invalid team configuration: {0}")]
+    LabelErrors(#[from] crate::semantic_map::LabelErrorsError),
 }
 
 /// A live controller beside a running mission (the operator console): it may replace any

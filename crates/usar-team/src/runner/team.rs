@@ -227,7 +227,7 @@ impl Runner for TeamRunner {
     }
 
     fn check(&self, config: &Config) -> Result<(), String> {
-        let mut team = Self::setup(config).config()?;
+        let mut team = Self::setup(config).config().map_err(|e| e.to_string())?;
         team.tuning = super::tuning_of(config)?;
         let scene = self.scene(config, &team)?;
         enough_start_poses(&scene, team.robots)?;
@@ -242,7 +242,7 @@ impl Runner for TeamRunner {
 
     fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
         let setup = Self::setup(config);
-        let mut team = setup.config()?;
+        let mut team = setup.config().map_err(|e| e.to_string())?;
         team.tuning = super::tuning_of(config)?;
         let scene = self.scene(config, &team)?;
         let outcome = TeamMission::new(scene, team, seed)
