@@ -174,6 +174,9 @@ pub fn run_mission(
         ));
     }
     let t = &config.team;
+    if t.robots == 0 {
+        return Err(bad("team.robots", "found 0, expected at least 1"));
+    }
     let setup = TeamSetup {
         robots: t.robots,
         robot: &t.robot,
