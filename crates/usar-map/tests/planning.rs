@@ -938,3 +938,18 @@ fn synthetic_building_of_tiny_or_empty_size_does_not_panic() {
         assert_eq!((grid.width(), grid.height()), (w, h));
     }
 }
+
+#[test]
+fn no_path_says_whether_start_goal_or_the_passage_is_closed() {
+    use usar_map::planning::{NavGrid, NoPath};
+    // Three columns: free, wall, free.
+    let mut blocked = Grid::filled(GridGeometry::new(3, 3, 1.0, Point2::new(0.0, 0.0)), false);
+    for row in 0..3 {
+        *blocked.get_mut(Cell::new(1, row)).expect("in grid") = true;
+    }
+    let grid = NavGrid::from_blocked(&blocked);
+    let (a, wall, b) = (Cell::new(0, 0), Cell::new(1, 1), Cell::new(2, 2));
+    assert_eq!(NoPath::explain(&grid, wall, b), NoPath::StartBlocked);
+    assert_eq!(NoPath::explain(&grid, a, wall), NoPath::GoalBlocked);
+    assert_eq!(NoPath::explain(&grid, a, b), NoPath::NotConnected);
+}

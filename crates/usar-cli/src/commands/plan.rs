@@ -5,7 +5,7 @@ use crate::cli::{ConnectivityArg, PlanArgs};
 use crate::failure::{CmdResult, Failure, InputContext, bad_input};
 use crate::scene_source;
 use serde_json::json;
-use usar_map::planning::{Connectivity, GridAStar, NavGrid, check_scenarios, inflate};
+use usar_map::planning::{Connectivity, GridAStar, NavGrid, NoPath, check_scenarios, inflate};
 use usar_world::Point2;
 use usar_world::render::{RenderOptions, render_scene};
 
@@ -77,15 +77,9 @@ pub fn run(args: PlanArgs) -> CmdResult {
     let mut astar = GridAStar::new();
     let path = astar.plan(&grid, start, goal, connectivity);
     let Some(path) = path else {
-        let why = if !grid.is_passable(start) {
-            "the start is blocked for this robot (an obstacle, a step or slope it cannot climb, or too close to a wall)"
-        } else if !grid.is_passable(goal) {
-            "the goal is blocked for this robot (an obstacle, a step or slope it cannot climb, or too close to a wall)"
-        } else {
-            "no passage wide and gentle enough for this robot connects start and goal"
-        };
+        let why = NoPath::explain(&grid, start, goal);
         if args.json {
-            print_json(&json!({ "found": false, "reason": why, "robot": robot.name }))?;
+            print_json(&json!({ "found": false, "reason": why.to_string(), "robot": robot.name }))?;
         }
         return Err(Failure {
             error: anyhow::anyhow!("no route for robot {}: {why}", robot.name),

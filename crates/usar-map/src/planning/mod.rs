@@ -43,5 +43,5 @@ pub use self::distance_field::DistanceField;
 pub use self::graph_astar::{TotalCost, astar, astar_bag, graph_astar};
 pub use self::grid_astar::{Connectivity, DIAGONAL_COST, GridAStar, GridAlgorithm, GridPath};
 pub use self::inflate::inflate;
-pub use self::nav_grid::NavGrid;
+pub use self::nav_grid::{NavGrid, NoPath};
 pub use self::scenarios::{Mismatch, ScenarioReport, check_scenario_sample, check_scenarios};

@@ -276,3 +276,34 @@ mod tests {
         }
     }
 }
+
+/// Why a planner found no path between two cells of a [`NavGrid`] built for a robot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum NoPath {
+    /// The start cell is not passable.
+    #[error(
+        "the start is blocked for this robot (an obstacle, a step or slope it cannot climb, or too close to a wall)"
+    )]
+    StartBlocked,
+    /// The goal cell is not passable.
+    #[error(
+        "the goal is blocked for this robot (an obstacle, a step or slope it cannot climb, or too close to a wall)"
+    )]
+    GoalBlocked,
+    /// Both are passable, in parts the grid does not connect.
+    #[error("no passage wide and gentle enough for this robot connects start and goal")]
+    NotConnected,
+}
+
+impl NoPath {
+    /// Why no path joins `start` and `goal` on `grid`, given that a complete planner found none.
+    pub fn explain(grid: &NavGrid, start: Cell, goal: Cell) -> Self {
+        if !grid.is_passable(start) {
+            NoPath::StartBlocked
+        } else if !grid.is_passable(goal) {
+            NoPath::GoalBlocked
+        } else {
+            NoPath::NotConnected
+        }
+    }
+}
