@@ -38,7 +38,8 @@ pub use self::config::{
     Exploration, Localization, Radio, RobotFailure, Semantics, Strategy, TeamConfig, Timing,
 };
 pub use self::mission::{
-    MissionError, MissionHook, TeamController, TeamEvaluation, TeamMission, VictimReport,
+    Allocate, Auction, MissionError, MissionHook, NearestFrontier, TeamController, TeamEvaluation,
+    TeamMission, VictimReport,
 };
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 

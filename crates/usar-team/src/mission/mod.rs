@@ -29,12 +29,14 @@ use usar_sim::{PlacementError, Simulation, Velocity, derive_seed};
 use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_angle};
 
 mod allocation;
+mod auction;
 mod check;
 mod controller;
 mod driving;
 mod evaluation;
 mod live;
 
+pub use self::allocation::{Allocate, Auction, NearestFrontier};
 pub use self::controller::{Assignment, TeamController, VictimReport};
 use self::driving::stuck_check;
 pub use self::evaluation::TeamEvaluation;
