@@ -446,6 +446,54 @@ pub fn runner_named(
     })
 }
 
+/// A campaign text as a listing shows it (`usar campaign list`): parsed against its runner, so
+/// a broken preset shows as broken. Fields are in alphabetical order, as the listing's JSON
+/// has always had them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Summary {
+    /// The campaign parses: its runner, its number of runs and its description.
+    Ready {
+        description: String,
+        name: String,
+        runner: String,
+        runs: u64,
+    },
+    /// The campaign does not parse: why.
+    Broken { error: String, name: String },
+}
+
+impl Summary {
+    /// The campaign's name, as the listing gives it.
+    pub fn name(&self) -> &str {
+        match self {
+            Summary::Ready { name, .. } | Summary::Broken { name, .. } => name,
+        }
+    }
+}
+
+/// Summarises the campaign text `text` listed as `name`; `source` names it in messages (e.g.
+/// `preset smoke`). Its runner is found with `runner_for` and the design expanded.
+pub fn summarize(
+    name: &str,
+    source: &str,
+    text: &str,
+    runner_for: impl Fn(&str) -> Option<&'static dyn Runner>,
+) -> Summary {
+    match runner_named(text, source, runner_for).and_then(|r| Design::parse(text, source, r)) {
+        Ok(d) => Summary::Ready {
+            description: d.campaign.description.clone(),
+            name: name.to_string(),
+            runner: d.campaign.runner.clone(),
+            runs: d.len(),
+        },
+        Err(e) => Summary::Broken {
+            error: e.to_string(),
+            name: name.to_string(),
+        },
+    }
+}
+
 /// A TOML error of a campaign file as one line: `SOURCE: line L, column C: message`.
 fn toml_error(text: &str, source: &str, e: &toml::de::Error) -> CampaignError {
     CampaignError::Input(format!(

@@ -577,3 +577,61 @@ pub fn write_plots(
     }
     Ok(files)
 }
+
+/// The format of a report's text file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// `report.md`.
+    Markdown,
+    /// `report.html`.
+    Html,
+}
+
+impl Format {
+    /// The file the report is written to in its folder.
+    pub fn file_name(self) -> &'static str {
+        match self {
+            Format::Markdown => "report.md",
+            Format::Html => "report.html",
+        }
+    }
+}
+
+/// What [`write_folder`] wrote.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WrittenReport {
+    /// The report's text file (`report.md` or `report.html`).
+    pub file: PathBuf,
+    /// The plots, PNG and SVG each.
+    pub plots: Vec<PathBuf>,
+    /// The report itself.
+    pub report: Report,
+}
+
+/// Writes a campaign's report folder `dir`: builds the report of `runs` (the tables of every
+/// metric of `runner` unless the campaign names some), opens the folder ([`ReportFolder`]: one
+/// report at a time; stale temporary files go first), draws the plots ([`write_plots`]) and
+/// writes the report's text in `format`, atomically and last.
+pub fn write_folder(
+    dir: &Path,
+    campaign: &CampaignFile,
+    runs: &[StoredRun],
+    runner: &dyn crate::Runner,
+    format: Format,
+) -> Result<WrittenReport> {
+    let metrics: Vec<String> = runner.metrics().into_iter().map(|m| m.name).collect();
+    let report = build(campaign, runs, &metrics);
+    let folder = ReportFolder::open(dir)?;
+    let plots = write_plots(&report, campaign, runs, runner.series_x(), &folder.dir)?;
+    let text = match format {
+        Format::Markdown => report.to_markdown(&plots),
+        Format::Html => report.to_html(&plots),
+    };
+    let file = folder.dir.join(format.file_name());
+    usar_world::write_atomic(&file, text.as_bytes())?;
+    Ok(WrittenReport {
+        file,
+        plots,
+        report,
+    })
+}

@@ -205,3 +205,52 @@ fn a_report_folder_is_written_by_one_report_and_cleared_of_a_killed_reports_temp
     drop(folder);
     assert!(ReportFolder::open(&dir).unwrap().removed.is_empty());
 }
+
+#[test]
+fn write_folder_writes_plots_then_the_report() {
+    use usar_campaign::report::{Format, write_folder};
+    let tmp = tempfile::tempdir().unwrap();
+    run(tmp.path());
+    let store = Store::open(&Store::path_in(tmp.path())).unwrap();
+    let campaign = store.campaign().unwrap();
+    let runs = store.runs().unwrap();
+    let dir = tmp.path().join("report");
+    let written = write_folder(&dir, &campaign, &runs, &NoopRunner, Format::Html).unwrap();
+    assert_eq!(written.file, dir.join("report.html"));
+    assert!(written.file.exists());
+    assert_eq!(written.report.runs, 4);
+    for plot in &written.plots {
+        assert!(plot.exists(), "{}", plot.display());
+    }
+    let json = serde_json::to_value(&written).unwrap();
+    let keys: Vec<&String> = json.as_object().unwrap().keys().collect();
+    assert_eq!(keys, ["file", "plots", "report"]);
+}
+
+#[test]
+fn summarize_lists_a_campaign_or_why_it_is_broken() {
+    use usar_campaign::design::{Summary, summarize};
+    let noop = |name: &str| (name == "noop").then_some(&NoopRunner as &dyn usar_campaign::Runner);
+    let ok = summarize("noop", "preset noop", CAMPAIGN, noop);
+    assert_eq!(
+        ok,
+        Summary::Ready {
+            description: String::new(),
+            name: "noop".into(),
+            runner: "noop".into(),
+            runs: 4,
+        }
+    );
+    assert_eq!(
+        serde_json::to_string(&ok).unwrap(),
+        r#"{"description":"","name":"noop","runner":"noop","runs":4}"#
+    );
+    let broken = summarize("bad", "preset bad", "runs = 2", noop);
+    assert_eq!(broken.name(), "bad");
+    match broken {
+        Summary::Broken { error, .. } => {
+            assert!(error.starts_with("preset bad: missing `runner"), "{error}")
+        }
+        other => panic!("{other:?}"),
+    }
+}

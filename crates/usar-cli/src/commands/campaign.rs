@@ -8,8 +8,9 @@ use crate::cli::{
 use crate::failure::{CmdResult, Failure, bad_input};
 use crate::{progress, runners};
 use serde_json::json;
-use std::path::{Path, PathBuf};
-use usar_campaign::{CampaignError, Design, Shard, Store, design::runner_named, export, report};
+use std::path::Path;
+use usar_campaign::design::{Summary, runner_named, summarize};
+use usar_campaign::{CampaignError, Design, Shard, Store, export, report};
 
 /// Campaign errors keep their kind: bad input exits 2, anything else 1.
 fn fail(e: CampaignError) -> Failure {
@@ -142,24 +143,22 @@ fn open(
 fn report(args: CampaignReportArgs) -> CmdResult {
     let (store, campaign, runner) = open(&args.dir)?;
     let runs = store.runs().map_err(fail)?;
-    let metrics: Vec<String> = runner.metrics().into_iter().map(|m| m.name).collect();
-    let rep = report::build(&campaign, &runs, &metrics);
-    // One report at a time writes the folder; temporary files a killed report left go first.
-    let folder = report::ReportFolder::open(&args.dir.join("report")).map_err(fail)?;
-    let dir = &folder.dir;
-    let plots =
-        report::write_plots(&rep, &campaign, &runs, runner.series_x(), dir).map_err(fail)?;
-    let (name, text) = match args.format {
-        ReportFormat::Md => ("report.md", rep.to_markdown(&plots)),
-        ReportFormat::Html => ("report.html", rep.to_html(&plots)),
+    let format = match args.format {
+        ReportFormat::Md => report::Format::Markdown,
+        ReportFormat::Html => report::Format::Html,
     };
-    let file: PathBuf = dir.join(name);
-    usar_world::write_atomic(&file, text.as_bytes())?;
+    let written = report::write_folder(&args.dir.join("report"), &campaign, &runs, runner, format)
+        .map_err(fail)?;
     if args.json {
-        print_json(&json!({ "report": rep, "file": file, "plots": plots }))
+        // Through a JSON value, so every object's keys are sorted, as this output always had.
+        print_json(&serde_json::to_value(&written)?)
     } else {
-        print!("{}", rep.to_markdown(&[]));
-        println!("written: {} and {} plots", file.display(), plots.len());
+        print!("{}", written.report.to_markdown(&[]));
+        println!(
+            "written: {} and {} plots",
+            written.file.display(),
+            written.plots.len()
+        );
         Ok(())
     }
 }
@@ -178,22 +177,9 @@ fn export(args: CampaignExportArgs) -> CmdResult {
 
 fn list(args: CampaignListArgs) -> CmdResult {
     // Every preset is parsed against its runner, so a broken preset shows here.
-    let presets: Vec<serde_json::Value> = runners::PRESETS
+    let presets: Vec<Summary> = runners::PRESETS
         .iter()
-        .map(|(name, text)| {
-            let source = format!("preset {name}");
-            match runner_named(text, &source, runners::named)
-                .and_then(|r| Design::parse(text, &source, r))
-            {
-                Ok(d) => json!({
-                    "name": name,
-                    "runner": d.campaign.runner,
-                    "runs": d.len(),
-                    "description": d.campaign.description,
-                }),
-                Err(e) => json!({ "name": name, "error": e.to_string() }),
-            }
-        })
+        .map(|(name, text)| summarize(name, &format!("preset {name}"), text, runners::named))
         .collect();
     let runners: Vec<_> = runners::all()
         .iter()
@@ -204,14 +190,15 @@ fn list(args: CampaignListArgs) -> CmdResult {
     }
     println!("presets:");
     for p in &presets {
-        match p["error"].as_str() {
-            Some(e) => println!("  {:<14} BROKEN: {e}", p["name"].as_str().unwrap_or("")),
-            None => println!(
-                "  {:<14} {:>5} runs  {}",
-                p["name"].as_str().unwrap_or(""),
-                p["runs"],
-                p["description"].as_str().unwrap_or("")
-            ),
+        match p {
+            Summary::Broken { name, error } => println!("  {name:<14} BROKEN: {error}"),
+            // The run count was never padded (it went through a JSON value); kept as it was.
+            Summary::Ready {
+                name,
+                runs,
+                description,
+                ..
+            } => println!("  {name:<14} {runs} runs  {description}"),
         }
     }
     for r in runners::all() {
