@@ -34,23 +34,10 @@ pub fn load_spec(spec: &SceneSpec) -> CmdResult<Scene> {
     load(&spec.scene, spec.seed, &spec.image)
 }
 
-/// Refuses a scene output path that [`load`] could not read back: scene files are `.json`
-/// (the extension chooses the format when a file is read).
+/// Refuses a scene output path that [`load`] could not read back
+/// ([`usar_world::io::check_scene_output`]); `option` names the argument in the message.
 pub fn check_scene_output(path: &Path, option: &str) -> CmdResult {
-    let ext = usar_world::io::extension(path);
-    if ext == "json" {
-        return Ok(());
-    }
-    Err(bad_input(anyhow::anyhow!(
-        "{option} {}: a scene file must end in .json, found {}; the extension chooses the \
-         format when the file is read back",
-        path.display(),
-        if ext.is_empty() {
-            "no extension".to_string()
-        } else {
-            format!(".{ext}")
-        }
-    )))
+    usar_world::io::check_scene_output(path).map_err(|e| bad_input(anyhow::anyhow!("{option} {e}")))
 }
 
 /// Loads a scene from a path (by extension) or generates one by name

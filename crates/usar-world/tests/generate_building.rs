@@ -690,3 +690,29 @@ proptest! {
         prop_assert!(scene.victims.len() >= 8);
     }
 }
+
+#[test]
+fn generate_furnished_checks_the_share_and_the_kind() {
+    use usar_world::generate::{GenerateError, SceneKind, generate, generate_furnished};
+    assert_eq!(
+        generate_furnished(SceneKind::Rubble, 1, None).unwrap(),
+        generate(SceneKind::Rubble, 1)
+    );
+    let params = BuildingParams {
+        furniture_fraction: 0.1,
+        ..BuildingParams::office()
+    };
+    assert_eq!(
+        generate_furnished(SceneKind::Office, 1, Some(0.1)).unwrap(),
+        generate_office(1, &params)
+    );
+    let err = generate_furnished(SceneKind::Course, 1, Some(0.1)).unwrap_err();
+    assert!(matches!(err, GenerateError::NoFurniture(SceneKind::Course)));
+    assert_eq!(
+        err.to_string(),
+        "the course generator has no furniture (only office and mall do)"
+    );
+    let err = generate_furnished(SceneKind::Mall, 1, Some(7.0)).unwrap_err();
+    assert!(matches!(err, GenerateError::Params(_)), "{err}");
+    assert!(err.to_string().contains("furniture_fraction"), "{err}");
+}

@@ -120,3 +120,64 @@ fn a_missing_or_endless_file_is_an_error_naming_it() {
         );
     }
 }
+
+#[test]
+fn a_scene_output_must_be_json() {
+    use usar_world::io::check_scene_output;
+    assert!(check_scene_output(Path::new("a/b.JSON")).is_ok());
+    let err = check_scene_output(Path::new("out.yaml")).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "out.yaml: a scene file must end in .json, found .yaml; the extension chooses the format \
+         when the file is read back"
+    );
+    let err = check_scene_output(Path::new("out")).unwrap_err();
+    assert_eq!(err.found, "no extension");
+}
+
+#[test]
+fn summary_names_the_file_and_counts() {
+    let scene = small_scene();
+    let summary = scene.summary(Path::new("s.json"));
+    assert_eq!(summary.file, "s.json");
+    assert_eq!(summary.width, scene.geometry().width);
+    assert_eq!(summary.victims, scene.victims.len());
+    let json = serde_json::to_value(&summary).unwrap();
+    let keys: Vec<&String> = json.as_object().unwrap().keys().collect();
+    let mut sorted = keys.clone();
+    sorted.sort();
+    assert_eq!(
+        keys, sorted,
+        "alphabetical, as the CLI has always printed them"
+    );
+}
+
+#[test]
+fn exports_write_every_format_given() {
+    use usar_world::io::Exports;
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = small_scene();
+    let (yaml, png, json) = (
+        tmp.path().join("m.yaml"),
+        tmp.path().join("m.png"),
+        tmp.path().join("m.json"),
+    );
+    assert!(Exports::default().is_empty());
+    let wrong = Exports {
+        scene_file: Some(&png),
+        ..Exports::default()
+    };
+    assert!(wrong.check().is_err());
+    let exports = Exports {
+        ros: Some(&yaml),
+        png: Some(&png),
+        scene_file: Some(&json),
+    };
+    exports.check().unwrap();
+    assert_eq!(
+        exports.write(&scene).unwrap(),
+        [yaml.clone(), png.clone(), json.clone()]
+    );
+    assert_eq!(read_scene(&json).unwrap(), scene);
+    assert!(yaml.exists() && png.exists());
+}

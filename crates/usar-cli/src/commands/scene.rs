@@ -2,12 +2,13 @@
 
 use super::print_json;
 use crate::cli::{
-    GeneratorKind, SceneCommand, SceneExportArgs, SceneGenArgs, SceneImportArgs, SceneInfoArgs,
-    SceneShowArgs,
+    SceneCommand, SceneExportArgs, SceneGenArgs, SceneImportArgs, SceneInfoArgs, SceneShowArgs,
 };
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::scene_source;
 use serde_json::json;
+use usar_world::generate::generate_furnished;
+use usar_world::io::Exports;
 use usar_world::render::{RenderOptions, render_scene};
 
 pub fn run(cmd: SceneCommand) -> CmdResult {
@@ -21,63 +22,25 @@ pub fn run(cmd: SceneCommand) -> CmdResult {
     }
 }
 
-fn summary(scene: &usar_world::Scene, path: &std::path::Path) -> serde_json::Value {
-    let g = scene.geometry();
-    json!({
-        "file": path.display().to_string(),
-        "name": scene.name,
-        "width": g.width,
-        "height": g.height,
-        "resolution_m": g.resolution_m,
-        "rooms": scene.rooms.len(),
-        "victims": scene.victims.len(),
-        "start_poses": scene.start_poses.len(),
-    })
-}
-
 fn generate(args: SceneGenArgs) -> CmdResult {
     scene_source::check_scene_output(&args.output, "-o")?;
-    let scene = match (args.kind, args.furniture) {
-        (_, None) => usar_world::generate::generate(scene_source::kind(args.kind), args.seed),
-        (GeneratorKind::Office | GeneratorKind::Mall, Some(share)) => {
-            use usar_world::generate::{BuildingParams, generate_mall, generate_office};
-            type Generator = fn(u64, &BuildingParams) -> usar_world::Scene;
-            let (defaults, generate): (BuildingParams, Generator) =
-                if args.kind == GeneratorKind::Office {
-                    (BuildingParams::office(), generate_office)
-                } else {
-                    (BuildingParams::mall(), generate_mall)
-                };
-            let params = BuildingParams {
-                furniture_fraction: share,
-                ..defaults
-            };
-            params
-                .check()
-                .map_err(|e| bad_input(anyhow::anyhow!("--furniture: {e}")))?;
-            generate(args.seed, &params)
-        }
-        (kind, Some(_)) => {
-            return Err(bad_input(anyhow::anyhow!(
-                "--furniture: the {} generator has no furniture (only office and mall do)",
-                scene_source::kind(kind)
-            )));
-        }
-    };
+    let kind = scene_source::kind(args.kind);
+    let scene = generate_furnished(kind, args.seed, args.furniture)
+        .map_err(|e| bad_input(anyhow::anyhow!("--furniture: {e}")))?;
     usar_world::write_scene(&scene, &args.output).input()?;
+    let summary = scene.summary(&args.output);
     if args.json {
-        print_json(&summary(&scene, &args.output))
+        print_json(&summary)
     } else {
-        let g = scene.geometry();
         println!(
             "wrote {} ({}: {}×{} cells at {} m, {} rooms, {} victims)",
             args.output.display(),
-            scene.name,
-            g.width,
-            g.height,
-            g.resolution_m,
-            scene.rooms.len(),
-            scene.victims.len()
+            summary.name,
+            summary.width,
+            summary.height,
+            summary.resolution_m,
+            summary.rooms,
+            summary.victims
         );
         Ok(())
     }
@@ -91,46 +54,42 @@ fn import(args: SceneImportArgs) -> CmdResult {
     }
     let scene = scene_source::load(&spec, 0, &args.image)?;
     usar_world::write_scene(&scene, &args.output).input()?;
+    let summary = scene.summary(&args.output);
     if args.json {
-        print_json(&summary(&scene, &args.output))
+        print_json(&summary)
     } else {
-        let g = scene.geometry();
         println!(
             "wrote {} ({}×{} cells at {} m)",
             args.output.display(),
-            g.width,
-            g.height,
-            g.resolution_m
+            summary.width,
+            summary.height,
+            summary.resolution_m
         );
         Ok(())
     }
 }
 
 fn export(args: SceneExportArgs) -> CmdResult {
-    if args.ros.is_none() && args.png.is_none() && args.scene_file.is_none() {
+    let exports = Exports {
+        ros: args.ros.as_deref(),
+        png: args.png.as_deref(),
+        scene_file: args.scene_file.as_deref(),
+    };
+    if exports.is_empty() {
         return Err(bad_input(anyhow::anyhow!(
             "nothing to export: give --ros FILE.yaml, --png FILE.png or --scene-file FILE.json"
         )));
     }
-    if let Some(file) = &args.scene_file {
-        scene_source::check_scene_output(file, "--scene-file")?;
-    }
+    exports
+        .check()
+        .map_err(|e| bad_input(anyhow::anyhow!("--scene-file {e}")))?;
     let scene = scene_source::load_spec(&args.source)?;
-    let mut written = Vec::new();
-    if let Some(yaml) = &args.ros {
-        usar_world::io::ros::write_ros_map(&scene, yaml).input()?;
-        written.push(yaml.display().to_string());
-    }
-    if let Some(png) = &args.png {
-        render_scene(&scene, &RenderOptions::default())
-            .save_png(png)
-            .input()?;
-        written.push(png.display().to_string());
-    }
-    if let Some(file) = &args.scene_file {
-        usar_world::write_scene(&scene, file).input()?;
-        written.push(file.display().to_string());
-    }
+    let written: Vec<String> = exports
+        .write(&scene)
+        .input()?
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
     if args.json {
         print_json(&json!({ "written": written }))
     } else {

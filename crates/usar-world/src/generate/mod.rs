@@ -72,3 +72,39 @@ pub fn generate(kind: SceneKind, seed: u64) -> Scene {
         SceneKind::Course => generate_course(seed, &CourseParams::default()),
     }
 }
+
+/// Why [`generate_furnished`] refused.
+#[derive(Debug, thiserror::Error)]
+pub enum GenerateError {
+    /// Only the building generators (office, mall) place furniture.
+    #[error("the {0} generator has no furniture (only office and mall do)")]
+    NoFurniture(SceneKind),
+    /// The furniture share made the building parameters invalid ([`BuildingParams::check`]).
+    #[error("{0}")]
+    Params(crate::WorldError),
+}
+
+/// Generates a scene of `kind`, with default parameters except the share of the floor covered
+/// by furniture when `furniture_fraction` is given (office and mall only; the parameters are
+/// checked, not clamped). Without it this is [`generate`].
+pub fn generate_furnished(
+    kind: SceneKind,
+    seed: u64,
+    furniture_fraction: Option<f64>,
+) -> Result<Scene, GenerateError> {
+    let Some(share) = furniture_fraction else {
+        return Ok(generate(kind, seed));
+    };
+    type Generator = fn(u64, &BuildingParams) -> Scene;
+    let (defaults, generate): (BuildingParams, Generator) = match kind {
+        SceneKind::Office => (BuildingParams::office(), generate_office),
+        SceneKind::Mall => (BuildingParams::mall(), generate_mall),
+        SceneKind::Rubble | SceneKind::Course => return Err(GenerateError::NoFurniture(kind)),
+    };
+    let params = BuildingParams {
+        furniture_fraction: share,
+        ..defaults
+    };
+    params.check().map_err(GenerateError::Params)?;
+    Ok(generate(seed, &params))
+}

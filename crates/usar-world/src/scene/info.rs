@@ -118,3 +118,37 @@ impl Scene {
         }
     }
 }
+
+/// A scene in a few numbers, as `usar scene gen|import --json` prints it for the file it wrote.
+/// Fields are in alphabetical order, as that output has always had them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// The file the scene was written to (or read from).
+    pub file: String,
+    /// Grid rows.
+    pub height: u32,
+    pub name: String,
+    pub resolution_m: f64,
+    pub rooms: usize,
+    pub start_poses: usize,
+    pub victims: usize,
+    /// Grid columns.
+    pub width: u32,
+}
+
+impl Scene {
+    /// The scene's [`Summary`], naming `file` (the file it was written to or read from).
+    pub fn summary(&self, file: &std::path::Path) -> Summary {
+        let g = self.geometry();
+        Summary {
+            file: file.display().to_string(),
+            height: g.height,
+            name: self.name.clone(),
+            resolution_m: g.resolution_m,
+            rooms: self.rooms.len(),
+            start_poses: self.start_poses.len(),
+            victims: self.victims.len(),
+            width: g.width,
+        }
+    }
+}

@@ -11,7 +11,7 @@ pub use self::file::{
     SCENE_FORMAT, SCENE_VERSION, read_scene, scene_from_json, scene_to_json, write_scene,
 };
 pub use self::ground_truth::{GroundTruth, Junction, JunctionKind, TerrainFeature};
-pub use self::info::{RoomInfo, SceneInfo};
+pub use self::info::{RoomInfo, SceneInfo, Summary};
 pub use self::semantic::{Door, Room, RoomId, RoomLabel, RoomSizeThresholds};
 pub use self::validate::{MAX_ABS_COORD_M, MAX_GRID_SIDE, RESOLUTION_RANGE_M};
 pub(crate) use self::validate::{check_extent, check_resolution};
