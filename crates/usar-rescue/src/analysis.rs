@@ -108,6 +108,38 @@ pub struct EvalAnalysis {
     pub paired_t_steps: BTreeMap<String, TestOutcome>,
 }
 
+/// What `usar maxq eval --json` prints: the policy evaluated, the number of runs, the §VI-B
+/// [`EvalAnalysis`] (its fields inline) and, when asked for, every run.
+#[derive(Serialize)]
+pub struct EvalSummary<'a> {
+    /// The policy file evaluated.
+    pub policy: &'a std::path::Path,
+    pub runs_total: usize,
+    #[serde(flatten)]
+    pub analysis: EvalAnalysis,
+    /// Every run, when kept.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub runs: Option<&'a [EvalRun]>,
+}
+
+impl<'a> EvalSummary<'a> {
+    /// Analyses `runs`, an evaluation of `policy` made with `config` ([`analyse`]); the runs
+    /// themselves are kept in the summary when `keep_runs`.
+    pub fn new(
+        policy: &'a std::path::Path,
+        runs: &'a [EvalRun],
+        config: &EvalConfig,
+        keep_runs: bool,
+    ) -> Self {
+        EvalSummary {
+            policy,
+            runs_total: runs.len(),
+            analysis: analyse(runs, config),
+            runs: keep_runs.then_some(runs),
+        }
+    }
+}
+
 /// Analyses the runs of an evaluation made with `config` (see the module documentation).
 pub fn analyse(runs: &[EvalRun], config: &EvalConfig) -> EvalAnalysis {
     let mut scenes = BTreeMap::new();

@@ -125,6 +125,25 @@ pub fn plot_study(results: &[ParticipantResult], path: &Path) -> Result<(), Plot
     Ok(())
 }
 
+/// Dietterich's Taxi: the greedy policies' mean return over the evaluation starts as training
+/// goes on, MAXQ-Q beside flat Q, against the optimum (the y axis from 20 below it to 2 above).
+pub fn plot_taxi(report: &usar_maxq::taxi::TaxiReport, path: &Path) -> Result<(), PlotError> {
+    let curve = |pick: fn(&(u64, f64, f64)) -> f64| {
+        report.curve.iter().map(|p| (p.0 as f64, pick(p))).collect()
+    };
+    LineChart {
+        title: format!("Taxi: greedy return (optimal {:.2})", report.optimal_return),
+        x_label: "episodes".into(),
+        y_label: format!("mean return over {} starts", report.config.eval_starts),
+        series: vec![
+            Series::line("MAXQ-Q", curve(|p| p.1)),
+            Series::line("flat Q", curve(|p| p.2)),
+        ],
+        y_range: Some((report.optimal_return - 20.0, report.optimal_return + 2.0)),
+    }
+    .save(path)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

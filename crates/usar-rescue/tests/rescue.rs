@@ -338,3 +338,34 @@ fn the_depth_classifier_reads_scene_b_as_the_cell_view_does() {
     assert!(seen > 500, "{seen}");
     assert_eq!(wrong, 0, "{wrong} of {seen} readings misclassified");
 }
+
+#[test]
+fn eval_summary_inlines_the_analysis_and_keeps_runs_when_asked() {
+    use usar_rescue::analysis::EvalSummary;
+    let config = EvalConfig::default();
+    let path = std::path::Path::new("policy.json");
+    let summary = EvalSummary::new(path, &[], &config, false);
+    let json = serde_json::to_value(&summary).unwrap();
+    let object = json.as_object().unwrap();
+    assert_eq!(object["policy"], "policy.json");
+    assert_eq!(object["runs_total"], 0);
+    assert!(object.contains_key("scenes") && object.contains_key("paired_t_steps"));
+    assert!(!object.contains_key("runs"));
+    let kept = serde_json::to_value(EvalSummary::new(path, &[], &config, true)).unwrap();
+    assert_eq!(kept["runs"], serde_json::json!([]));
+}
+
+#[test]
+fn taxi_plot_is_written() {
+    use usar_maxq::taxi::{TaxiConfig, run_taxi};
+    let report = run_taxi(&TaxiConfig {
+        episodes: 50,
+        eval_starts: 5,
+        ..TaxiConfig::default()
+    });
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("taxi.svg");
+    usar_rescue::figures::plot_taxi(&report, &path).unwrap();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.contains("<svg"), "{svg}");
+}

@@ -7,9 +7,8 @@ use crate::progress;
 use serde::Serialize;
 use std::path::Path;
 use usar_maxq::taxi::{TaxiConfig, run_taxi};
-use usar_plot::{LineChart, Series};
-use usar_rescue::analysis::{EvalAnalysis, analyse};
-use usar_rescue::evaluation::{EvalConfig, EvalRun, eval_scene, evaluate};
+use usar_rescue::analysis::EvalSummary;
+use usar_rescue::evaluation::{EvalConfig, eval_scene, evaluate};
 use usar_rescue::figures;
 use usar_rescue::operator::OperatorProfile;
 use usar_rescue::policy::{PolicyFile, TrainingInfo};
@@ -98,25 +97,10 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     let bar = progress::bar(total, "evaluating", args.json);
     let runs = evaluate(&policy.learner, &config, || bar.inc(1));
     bar.finish_and_clear();
-    let analysis = analyse(&runs, &config);
+    let out = EvalSummary::new(&args.policy, &runs, &config, args.runs);
     if let Some(path) = &args.plot {
-        figures::plot_evaluation(&analysis, path).input()?;
+        figures::plot_evaluation(&out.analysis, path).input()?;
     }
-    #[derive(Serialize)]
-    struct Out<'a> {
-        policy: &'a Path,
-        runs_total: usize,
-        #[serde(flatten)]
-        analysis: EvalAnalysis,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        runs: Option<&'a [EvalRun]>,
-    }
-    let out = Out {
-        policy: &args.policy,
-        runs_total: runs.len(),
-        analysis,
-        runs: args.runs.then_some(runs.as_slice()),
-    };
     if args.json {
         return print_json(&out);
     }
@@ -201,21 +185,7 @@ fn taxi(args: MaxqTaxiArgs) -> CmdResult {
     };
     let report = run_taxi(&config);
     if let Some(path) = &args.plot {
-        let curve = |pick: fn(&(u64, f64, f64)) -> f64| {
-            report.curve.iter().map(|p| (p.0 as f64, pick(p))).collect()
-        };
-        LineChart {
-            title: format!("Taxi: greedy return (optimal {:.2})", report.optimal_return),
-            x_label: "episodes".into(),
-            y_label: format!("mean return over {} starts", config.eval_starts),
-            series: vec![
-                Series::line("MAXQ-Q", curve(|p| p.1)),
-                Series::line("flat Q", curve(|p| p.2)),
-            ],
-            y_range: Some((report.optimal_return - 20.0, report.optimal_return + 2.0)),
-        }
-        .save(path)
-        .input()?;
+        figures::plot_taxi(&report, path).input()?;
     }
     if args.json {
         return print_json(&report);
