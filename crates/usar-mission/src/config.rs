@@ -17,8 +17,8 @@ pub struct MissionConfig {
     /// Whether robots show in each other's lasers (they always block each other).
     pub robots_in_lasers: bool,
     pub team: TeamPart,
-    /// The crawler building a Behavioral Trace Map (none when absent).
-    pub crawler: Option<CrawlerPart>,
+    /// The crawler building a Behavioral Trace Map (`enabled = false`: none).
+    pub crawler: CrawlerPart,
 }
 
 impl Default for MissionConfig {
@@ -29,7 +29,7 @@ impl Default for MissionConfig {
             minutes: 10.0,
             robots_in_lasers: true,
             team: TeamPart::default(),
-            crawler: Some(CrawlerPart::default()),
+            crawler: CrawlerPart::default(),
         }
     }
 }
@@ -69,16 +69,20 @@ impl Default for TeamPart {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CrawlerPart {
+    /// `false`: a mission without a crawler.
+    pub enabled: bool,
     pub robot: String,
     /// It sends its whole map to the base station this often, seconds.
     pub share_period_s: f64,
-    /// Its builder's parameters (`usar btm build --config`).
+    /// Its builder's parameters (`usar btm build --config`), but for its step, which is the
+    /// mission's, and its time limit, which is at least the mission's.
     pub build: BuildConfig,
 }
 
 impl Default for CrawlerPart {
     fn default() -> Self {
         Self {
+            enabled: true,
             robot: "crawler".into(),
             share_period_s: 10.0,
             build: BuildConfig::default(),

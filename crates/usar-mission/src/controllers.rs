@@ -104,14 +104,14 @@ impl<'a> SharingCrawler<'a> {
         if btm.nodes.is_empty() {
             return;
         }
-        io.send(
+        let sent = io.send(
             Endpoint::Robot(io.id(0)),
             Endpoint::Base,
             BTM_TOPIC,
             wire::encode(btm),
         );
         self.last_shared_s = Some(io.time_s());
-        self.maps_sent += 1;
+        self.maps_sent += u32::from(sent);
     }
 }
 

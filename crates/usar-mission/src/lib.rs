@@ -67,6 +67,14 @@ pub enum MissionError {
     Robot(#[from] usar_sim::SimError),
 }
 
+impl MissionError {
+    /// Whether the mission's input is at fault (a bad file or value) rather than something
+    /// that failed while it ran (writing the crawler's map to its store).
+    pub fn is_input(&self) -> bool {
+        !matches!(self, MissionError::Build(BuildError::Store(_)))
+    }
+}
+
 /// What the team did.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TeamFigures {
@@ -81,8 +89,10 @@ pub struct TeamFigures {
     pub distance_m: f64,
     pub collisions: u32,
     pub max_pose_error_m: f64,
-    /// BTMs the base station received, and the keep-out zones it drew from them.
+    /// BTMs the base station received (and could not read), and the keep-out zones it drew
+    /// from them.
     pub btm_maps_received: u32,
+    pub btm_maps_unreadable: u32,
     pub keep_out_zones: usize,
 }
 
@@ -129,7 +139,8 @@ pub struct MissionOutcome {
     pub time_s: f64,
     pub team: TeamFigures,
     pub crawler: Option<CrawlerFigures>,
-    /// Collision events in which one robot stopped another (all controllers).
+    /// Collision events in which another robot stopped a robot's motion, counted per robot
+    /// stopped (a head-on meeting counts twice), over all controllers.
     pub robot_contacts: u32,
     pub radio: RadioStats,
     pub victims: Vec<VictimRow>,
@@ -195,7 +206,7 @@ pub fn run_mission(
     };
     let mut team_config = setup.config()?;
     team_config.sim.robots_in_lasers = config.robots_in_lasers;
-    let crawler = match &config.crawler {
+    let crawler = match Some(&config.crawler).filter(|c| c.enabled) {
         Some(c) => {
             if !(c.share_period_s.is_finite() && c.share_period_s > 0.0) {
                 return Err(bad(
@@ -210,10 +221,14 @@ pub fn run_mission(
     // Room for every robot: a room layer for the team's evaluation, start poses for all.
     let robots = team_config.robots + usize::from(crawler.is_some());
     let mut scene = (*scene).clone();
+    let widest = crawler
+        .as_ref()
+        .map_or(0.0, |(spec, _)| spec.circumscribed_radius_m())
+        .max(team_config.robot.circumscribed_radius_m());
     usar_team::scene_prep::prepare_scene(
         &mut scene,
         robots,
-        team_config.robot.circumscribed_radius_m() + 0.1,
+        widest + 0.1,
         &SegmentationParams::default(),
     );
     if scene.start_poses.len() < robots {
@@ -243,16 +258,10 @@ pub fn run_mission(
         .map(|&p| (team_config.robot.clone(), p))
         .collect();
     let team_fleet = host.add_fleet_with(&team_robots, team_oracles)?;
+    // The team's controller runs the base station.
+    host.set_base_owner(team_fleet);
     let spec = &team_config.robot;
-    let mut team = TeamWithBtm::new(
-        team,
-        RobotLimits {
-            width_m: spec.width_m,
-            max_inclination_rad: spec.max_inclination_rad,
-            max_step_m: spec.max_step_m,
-        },
-        spec.circumscribed_radius_m(),
-    );
+    let mut team = TeamWithBtm::new(team, RobotLimits::of(spec), spec.circumscribed_radius_m());
     let mut eval = TeamEvaluation::new(&scene, &team_config, base);
     let build_config = crawler.as_ref().map(|(_, c)| {
         let mut b = c.build.clone();
@@ -338,6 +347,7 @@ pub fn run_mission(
         collisions: team_robots_truth.iter().map(|r| r.collisions).sum(),
         max_pose_error_m: eval.max_pose_error_m().iter().copied().fold(0.0, f64::max),
         btm_maps_received: team.maps_received,
+        btm_maps_unreadable: team.maps_unreadable,
         keep_out_zones: base_station.keep_outs().len(),
     };
     let (crawler_figures, btm, crawler_trajectory) = match &crawler {

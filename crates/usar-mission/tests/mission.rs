@@ -48,16 +48,47 @@ fn the_slopes_and_stairs_the_crawler_records_are_closed_to_the_wheeled_robots() 
         .sum();
     assert!(obstacles >= 2, "{:?}", crawler.nodes_by_type);
     assert!(out.team.keep_out_zones >= 1, "{:?}", out.team);
-    // Every keep-out lies on the BTM's obstacle links or nodes.
+    // Every obstacle node the crawler recorded lies in a keep-out zone, and every zone lies
+    // on the BTM's obstacle links or nodes.
     let btm = out.btm.as_ref().unwrap();
-    for &(a, b, _) in &out.keep_outs {
-        let near_obstacle = |p: usar_world::Point2| {
-            btm.nodes.iter().any(|n| {
-                n.kind == "obstacle" && usar_world::Point2::new(n.x_m, n.y_m).distance(p) < 8.0
-            })
-        };
-        assert!(near_obstacle(a) || near_obstacle(b), "{a:?} {b:?}");
+    let in_zone = |p: usar_world::Point2| {
+        out.keep_outs.iter().any(|&(a, b, r)| {
+            let (dx, dy) = (b.x - a.x, b.y - a.y);
+            let len2 = dx * dx + dy * dy;
+            let t = if len2 > 0.0 {
+                (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(usar_world::Point2::new(a.x + t * dx, a.y + t * dy)) <= r
+        })
+    };
+    let obstacle_nodes: Vec<usar_world::Point2> = btm
+        .nodes
+        .iter()
+        .filter(|n| n.kind == "obstacle")
+        .map(|n| usar_world::Point2::new(n.x_m, n.y_m))
+        .collect();
+    for &p in &obstacle_nodes {
+        assert!(
+            in_zone(p),
+            "obstacle node at {p:?} is open to the wheeled robots"
+        );
     }
+    for &(a, b, _) in &out.keep_outs {
+        let near = |q: usar_world::Point2| obstacle_nodes.iter().any(|&p| p.distance(q) < 8.0);
+        assert!(near(a) || near(b), "{a:?} {b:?}");
+    }
+}
+
+#[test]
+fn a_mission_without_a_crawler_has_no_btm() {
+    let scene = Arc::new(generate(SceneKind::Office, 1));
+    let config: MissionConfig =
+        toml::from_str("minutes = 0.5\n[crawler]\nenabled = false\n").unwrap();
+    let out = run_mission(scene, &config, 1, None, |_| {}).unwrap();
+    assert!(out.crawler.is_none() && out.btm.is_none());
+    assert_eq!((out.team.robots, out.radio.sent), (4, 0));
 }
 
 #[test]

@@ -99,6 +99,11 @@ impl BaseStation {
         }
     }
 
+    /// Whether map cell `c` lies in a keep-out zone.
+    pub fn is_kept_out(&self, c: Cell) -> bool {
+        !self.keep_out.is_empty() && kept_out(&self.keep_out, self.merged.geometry().cell_center(c))
+    }
+
     /// The keep-out segments given so far.
     pub fn keep_outs(&self) -> &[(Point2, Point2, f64)] {
         &self.keep_out

@@ -69,8 +69,8 @@ pub struct TrajectorySample {
     /// Where it really is (simulator ground truth, for evaluation only).
     pub truth: Pose2,
     pub mode: RunMode,
-    /// Whether the robot was stopped by a wall or obstacle on this step (simulator ground
-    /// truth, for evaluation only).
+    /// Whether the robot's bumper reported contact at this step (a reading the explorer acts
+    /// on).
     pub contact: bool,
 }
 

@@ -2,9 +2,10 @@
 
 use super::print_json;
 use crate::cli::{MissionCommand, MissionRunArgs};
-use crate::failure::{CmdResult, InputContext};
+use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::{progress, scene_source};
 use std::sync::Arc;
+use usar_btm::report::partial_path;
 use usar_btm::store::BtmStore;
 use usar_mission::{MissionConfig, MissionOutcome, run_mission};
 
@@ -27,15 +28,35 @@ fn run_one(args: MissionRunArgs) -> CmdResult {
         config.scene_seed,
         &args.image,
     )?);
-    let store = match &args.btm {
-        Some(path) => Some(BtmStore::create(path).input()?),
+    // The crawler's map goes to DB.partial while it is built, renamed to DB at the end; a
+    // refused or failed mission leaves no file.
+    let partial = args.btm.as_deref().map(partial_path);
+    let store = match &partial {
+        Some(path) => {
+            if path.exists() {
+                std::fs::remove_file(path)?;
+            }
+            Some(BtmStore::create(path).input()?)
+        }
         None => None,
     };
     let bar = progress::bar((config.minutes * 60.0).round() as u64, "mission", args.json);
-    let outcome = run_mission(scene, &config, args.seed, store.as_ref(), |t| {
+    let result = run_mission(scene, &config, args.seed, store.as_ref(), |t| {
         bar.set_position(t.round() as u64)
-    })
-    .input()?;
+    });
+    drop(store);
+    let outcome = match result {
+        Ok(o) => o,
+        Err(e) => {
+            if let Some(path) = &partial {
+                let _ = std::fs::remove_file(path);
+            }
+            return Err(if e.is_input() { bad_input(e) } else { e.into() });
+        }
+    };
+    if let (Some(partial), Some(out)) = (&partial, &args.btm) {
+        std::fs::rename(partial, out)?;
+    }
     bar.finish_and_clear();
     if let Some(dir) = &args.out {
         usar_mission::report::write_report(dir, &outcome)?;

@@ -32,6 +32,8 @@ pub struct FleetIo<'a> {
     detections: &'a mut Vec<HeatTruth>,
     radio: &'a mut Radio,
     oracles: Oracles,
+    /// Whether this controller runs the base station.
+    owns_base: bool,
 }
 
 impl<'a> FleetIo<'a> {
@@ -42,6 +44,7 @@ impl<'a> FleetIo<'a> {
         detections: &'a mut Vec<HeatTruth>,
         radio: &'a mut Radio,
         oracles: Oracles,
+        owns_base: bool,
     ) -> Self {
         Self {
             sim,
@@ -50,6 +53,7 @@ impl<'a> FleetIo<'a> {
             detections,
             radio,
             oracles,
+            owns_base,
         }
     }
 
@@ -82,7 +86,7 @@ impl<'a> FleetIo<'a> {
         &self.sim.robot(self.robots[k]).spec
     }
 
-    /// Whether the robot still answers (a failed robot neither moves nor senses).
+    /// Whether the robot still answers (a failed robot neither moves, senses nor talks).
     pub fn alive(&self, k: usize) -> bool {
         !self.sim.robot(self.robots[k]).failed
     }
@@ -97,7 +101,8 @@ impl<'a> FleetIo<'a> {
         self.sim.robot(self.robots[k]).in_contact()
     }
 
-    /// The velocity the robot's last step achieved, as its encoders measured it.
+    /// The velocity the robot's last step achieved, as its encoders count it: exact (the drift
+    /// of dead reckoning is in [`FleetIo::odometry`]).
     pub fn achieved(&self, k: usize) -> Velocity {
         self.sim.robot(self.robots[k]).last_motion()
     }
@@ -121,9 +126,14 @@ impl<'a> FleetIo<'a> {
         }
     }
 
-    /// A 2-D laser scan into `scan` (its buffer reused), stamped (see [`FleetIo::true_pose`]).
+    /// A 2-D laser scan into `scan` (its buffer reused), stamped (see [`FleetIo::true_pose`]);
+    /// a failed robot's scan has no beams.
     pub fn laser(&mut self, k: usize, scan: &mut LaserScan) {
-        self.sim.scan_laser(self.robots[k], scan);
+        if self.alive(k) {
+            self.sim.scan_laser(self.robots[k], scan);
+        } else {
+            scan.ranges_m.clear();
+        }
         scan.pose = self.stamp(k);
     }
 
@@ -149,12 +159,17 @@ impl<'a> FleetIo<'a> {
         self.sim.read_attitude(self.robots[k])
     }
 
-    /// The thermal camera's warm regions. Which source caused each is kept by the host for
-    /// the evaluator, under the reading's opaque number.
+    /// The thermal camera's warm regions, by bearing (none from a failed robot). Which
+    /// source caused each is kept by the host for the evaluator, under the reading's opaque
+    /// number.
     pub fn thermal(&mut self, k: usize) -> Vec<ThermalReading> {
-        self.sim
-            .read_thermal(self.robots[k])
-            .into_iter()
+        if !self.alive(k) {
+            return Vec::new();
+        }
+        let mut seen = self.sim.read_thermal(self.robots[k]);
+        // The simulator lists victims first: in bearing order the list says nothing of that.
+        seen.sort_by(|a, b| a.bearing_rad.total_cmp(&b.bearing_rad));
+        seen.into_iter()
             .map(|d| {
                 let id = DetectionId(self.detections.len() as u64);
                 self.detections.push(d.truth);
@@ -177,14 +192,31 @@ impl<'a> FleetIo<'a> {
 
     fn place(&self, end: Endpoint) -> Option<Point2> {
         match end {
-            Endpoint::Robot(id) => Some(self.sim.robot(id).pose.position()),
+            Endpoint::Robot(id) => self.sim.robots().get(id.0).map(|r| r.pose.position()),
             Endpoint::Base => self.radio.spec().base,
         }
     }
 
+    /// Whether this controller may speak and listen as `end`: one of its own robots that still
+    /// answers, or the base station when it runs it.
+    fn speaks_as(&self, end: Endpoint) -> bool {
+        match end {
+            Endpoint::Robot(id) => self
+                .robots
+                .iter()
+                .position(|&r| r == id)
+                .is_some_and(|k| self.alive(k)),
+            Endpoint::Base => self.owns_base,
+        }
+    }
+
     /// Sends `payload` on `topic` from `from` (one of the fleet's robots, or the base station
-    /// when the controller runs it) to `to`; it arrives at the next step, if the radio carries it.
-    pub fn send(&mut self, from: Endpoint, to: Endpoint, topic: &str, payload: Vec<u8>) {
+    /// when the controller runs it) to `to`; it arrives at the next step, if the radio carries
+    /// it. Returns `false`, sending nothing, when `from` is not this controller's to speak as.
+    pub fn send(&mut self, from: Endpoint, to: Endpoint, topic: &str, payload: Vec<u8>) -> bool {
+        if !self.speaks_as(from) {
+            return false;
+        }
         let (from_at, to_at) = (self.place(from), self.place(to));
         let message = Message {
             from,
@@ -194,17 +226,24 @@ impl<'a> FleetIo<'a> {
             sent_s: self.sim.time_s(),
         };
         self.radio.send(message, from_at, to_at);
+        true
     }
 
     /// Whether robot `k`'s radio reaches the base station now (range, and one draw of the
     /// loss): a map upload or a bid gets through.
     pub fn link_to_base(&mut self, k: usize) -> bool {
         let at = self.sim.robot(self.robots[k]).pose.position();
-        self.radio.link_to_base(at)
+        // Drawn for a failed robot too, so that one robot's failure leaves the others' draws.
+        let link = self.radio.link_to_base(at);
+        link && self.alive(k)
     }
 
-    /// The messages on `topic` that have arrived for `to`, oldest first.
+    /// The messages on `topic` that have arrived for `to` (one of the fleet's robots, or the
+    /// base station when the controller runs it), oldest first; none for another's end.
     pub fn receive(&mut self, to: Endpoint, topic: &str) -> Vec<Message> {
+        if !self.speaks_as(to) {
+            return Vec::new();
+        }
         self.radio.receive(to, topic)
     }
 }

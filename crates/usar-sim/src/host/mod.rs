@@ -41,7 +41,7 @@ mod radio;
 
 pub use self::evaluator::Evaluator;
 pub use self::io::FleetIo;
-pub use self::radio::{Endpoint, Message, Radio, RadioSpec, RadioStats};
+pub use self::radio::{Endpoint, INBOX_CAP, Message, Radio, RadioSpec, RadioStats};
 
 use crate::robot::RobotSpec;
 use crate::sensors::HeatTruth;
@@ -84,6 +84,8 @@ pub struct Host {
     /// The source of each thermal reading handed out, by [`crate::sensors::DetectionId`].
     detections: Vec<HeatTruth>,
     radio: Radio,
+    /// The fleet whose controller runs the base station (its radio end).
+    base_owner: Option<FleetId>,
 }
 
 impl Host {
@@ -98,7 +100,14 @@ impl Host {
             oracles,
             detections: Vec::new(),
             radio,
+            base_owner: None,
         }
+    }
+
+    /// The controller of `fleet` runs the base station: it alone sends and receives as
+    /// [`Endpoint::Base`].
+    pub fn set_base_owner(&mut self, fleet: FleetId) {
+        self.base_owner = Some(fleet);
     }
 
     /// The radio between robots and the base station (unlimited unless set).
@@ -178,6 +187,7 @@ impl Host {
             &mut self.detections,
             &mut self.radio,
             *oracles,
+            self.base_owner == Some(fleet),
         );
         controller.step(&mut io);
     }
@@ -197,7 +207,7 @@ impl Host {
         self.apply_failures();
         self.sim.step(&self.commands);
         self.commands.fill(Velocity::default());
-        self.radio.tick(self.sim.time_s());
+        self.radio.tick();
     }
 
     fn apply_failures(&mut self) {

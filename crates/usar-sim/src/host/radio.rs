@@ -52,7 +52,15 @@ pub struct RadioStats {
     pub delivered: u64,
     pub lost: u64,
     pub bytes_delivered: u64,
+    /// Sent at the last step, not yet arrived.
+    pub in_flight: u64,
+    /// Arrived but dropped unread: an inbox holds at most [`INBOX_CAP`] messages per receiver
+    /// and topic, the oldest going first.
+    pub dropped_unread: u64,
 }
+
+/// The most messages an inbox keeps per receiver and topic.
+pub const INBOX_CAP: usize = 256;
 
 /// The radio of a host.
 pub struct Radio {
@@ -83,7 +91,10 @@ impl Radio {
     }
 
     pub fn stats(&self) -> RadioStats {
-        self.stats
+        RadioStats {
+            in_flight: self.in_flight.len() as u64,
+            ..self.stats
+        }
     }
 
     /// Sends `message` between ends at `from_at` and `to_at` (the base's place is the spec's).
@@ -121,10 +132,24 @@ impl Radio {
     }
 
     /// The clock moved on: messages in flight arrive.
-    pub(super) fn tick(&mut self, _now_s: f64) {
-        for m in self.in_flight.drain(..) {
+    pub(super) fn tick(&mut self) {
+        for m in std::mem::take(&mut self.in_flight) {
             self.stats.delivered += 1;
             self.stats.bytes_delivered += m.payload.len() as u64;
+            let waiting = self
+                .inbox
+                .iter()
+                .filter(|w| w.to == m.to && w.topic == m.topic)
+                .count();
+            if waiting >= INBOX_CAP
+                && let Some(oldest) = self
+                    .inbox
+                    .iter()
+                    .position(|w| w.to == m.to && w.topic == m.topic)
+            {
+                self.inbox.remove(oldest);
+                self.stats.dropped_unread += 1;
+            }
             self.inbox.push(m);
         }
     }

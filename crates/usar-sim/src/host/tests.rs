@@ -201,6 +201,7 @@ fn talk(spec: RadioSpec, at: Point2) -> (Vec<Message>, RadioStats) {
     let fleet = host
         .add_fleet(&[(RobotSpec::wheeled(), Pose2::new(at.x, at.y, 0.0))])
         .unwrap();
+    host.set_base_owner(fleet);
     let mut t = Talk {
         sent: false,
         received: Vec::new(),
@@ -267,4 +268,52 @@ fn the_evaluator_knows_which_victim_a_thermal_reading_saw() {
         host.evaluator().truth_of(look.0[0].id),
         Some(HeatTruth::Victim(7))
     );
+}
+
+#[test]
+fn a_controller_speaks_and_listens_only_as_its_own_robots_and_the_base_it_runs() {
+    let mut host = Host::new(hall(), SimConfig::default(), 1, Oracles::default());
+    let a = host
+        .add_fleet(&[(RobotSpec::wheeled(), Pose2::new(2.0, 2.0, 0.0))])
+        .unwrap();
+    let b = host
+        .add_fleet(&[(RobotSpec::wheeled(), Pose2::new(2.0, 4.0, 0.0))])
+        .unwrap();
+    host.set_base_owner(a);
+    let theirs = Endpoint::Robot(host.fleet(b)[0]);
+    /// Tries to speak as `from`, and collects what reaches `at` on "x".
+    struct Try {
+        from: Endpoint,
+        at: Endpoint,
+        sent: Option<bool>,
+        got: usize,
+    }
+    impl Controller for Try {
+        fn step(&mut self, io: &mut FleetIo<'_>) {
+            if self.sent.is_none() {
+                self.sent = Some(io.send(self.from, self.at, "x", vec![7]));
+            }
+            self.got += io.receive(self.at, "x").len();
+        }
+    }
+    // Fleet b may not speak as the base, nor listen there.
+    let mut impostor = Try {
+        from: Endpoint::Base,
+        at: Endpoint::Base,
+        sent: None,
+        got: 0,
+    };
+    // Fleet a runs the base: it speaks as the base to b's robot, but cannot read b's inbox.
+    let mut base = Try {
+        from: Endpoint::Base,
+        at: theirs,
+        sent: None,
+        got: 0,
+    };
+    for _ in 0..3 {
+        host.step(&mut [(a, &mut base), (b, &mut impostor)]);
+    }
+    assert_eq!((impostor.sent, impostor.got), (Some(false), 0));
+    assert_eq!((base.sent, base.got), (Some(true), 0));
+    assert_eq!(host.evaluator().radio().sent, 1);
 }

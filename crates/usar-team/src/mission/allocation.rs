@@ -45,15 +45,8 @@ impl TeamController {
     /// The nearest-frontier assignment: path costs from each robot to every candidate, one
     /// robot per candidate, nearest first.
     fn assign_nearest(&mut self, who: &[usize]) {
-        let clusters = self.base.clusters(self.config.min_cluster_cells);
+        let cands = self.candidate_locations();
         let g = *self.base.merged.geometry();
-        let merged = &self.base.merged;
-        let navigable = |nav: &usar_map::NavigableMap, c: Cell| {
-            g.checked_index(c)
-                .is_some_and(|i| nav.is_navigable(merged, i))
-        };
-        let cands: Vec<Candidate> =
-            candidates(&clusters, |c| navigable(&self.base.navigable_tight, c), &g);
         let now = self.now;
         // Targets of robots that keep theirs are taken (one robot per candidate).
         let keep: Vec<Cell> = (0..self.agents.len())

@@ -61,21 +61,22 @@ impl TeamController {
         let mut pricing = self.price(&bidders, &offer);
         self.group_rooms(&mut offer, &mut pricing);
         let bids = self.bid(&bidders, &offer, &pricing);
-        let chosen = self.coordinate(who, &offer, &bids);
+        let chosen = self.coordinate(&bidders, &offer, &bids);
         self.award(&bidders, &chosen, &offer, &pricing, &bids);
     }
 
-    /// The frontier clusters' candidate locations (cells the tight radius can stand on).
-    fn candidate_locations(&mut self) -> Vec<Candidate> {
+    /// The frontier clusters' candidate locations: cells the tight radius can stand on, outside
+    /// the keep-out zones.
+    pub(super) fn candidate_locations(&mut self) -> Vec<Candidate> {
         let clusters = self.base.clusters(self.config.min_cluster_cells);
         let g = *self.base.merged.geometry();
-        let merged = &self.base.merged;
-        let nav = &self.base.navigable_tight;
+        let base = &self.base;
         candidates(
             &clusters,
             |c| {
                 g.checked_index(c)
-                    .is_some_and(|i| nav.is_navigable(merged, i))
+                    .is_some_and(|i| base.navigable_tight.is_navigable(&base.merged, i))
+                    && !base.is_kept_out(c)
             },
             &g,
         )
@@ -284,17 +285,18 @@ impl TeamController {
     }
 
     /// Stage 5: the coordination method allocates candidates to bidders; robots keeping their
-    /// targets (not in `who`) occupy the candidate nearest to each target.
+    /// targets (every working robot that does not bid) occupy the candidate nearest to each
+    /// target.
     fn coordinate(
         &self,
-        who: &[usize],
+        bidders: &[usize],
         offer: &Offer,
         bids: &[Vec<Option<f64>>],
     ) -> Vec<Option<usize>> {
         let tuning = self.config.tuning;
         let mut already = vec![0usize; offer.cands.len()];
         for (j, a) in self.agents.iter().enumerate() {
-            if who.contains(&j) || !a.alive {
+            if bidders.contains(&j) || !a.alive {
                 continue;
             }
             if let Some(t) = a.target
@@ -356,10 +358,7 @@ impl TeamController {
                                 room_known: offer.rooms[c]
                                     .map(|r| self.semantic.perceived_fraction(r)),
                             });
-                            self.assignments.push(Assignment {
-                                target,
-                                candidate: offer.cands[c].cell,
-                            });
+                            self.assignments.push(Assignment { target });
                             let agent = &mut self.agents[i];
                             agent.follower = PathFollower::new(waypoints);
                             agent.target = Some(target);

@@ -2,7 +2,8 @@
 //! [`FleetIo`] — laser scans every scan period, the thermal camera every thermal period, the
 //! bumper and the motion achieved every step — merges their maps at the base station, runs the
 //! allocation, and sets every robot's velocity. It never sees the scene: the semantic labels
-//! of paper 002 come through the named semantic oracle it is built with, and the robots' poses
+//! of paper 002 come from the semantic map it is built with (the named semantic oracle, or its
+//! own segmentation), and the robots' poses
 //! through the localization oracle when the host has it on.
 
 use super::*;
@@ -63,12 +64,11 @@ pub struct VictimReport {
     pub time_s: f64,
 }
 
-/// A target the team gave a robot at an auction, and the candidate location it stood for: the
-/// evaluator counts assignments per true room label from them.
+/// A target the team gave a robot at an auction: the evaluator counts assignments per true
+/// room label from them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Assignment {
     pub target: Cell,
-    pub candidate: Cell,
 }
 
 /// Paper 002's team (or the nearest-frontier baseline) driving its fleet.
@@ -76,7 +76,8 @@ pub struct TeamController {
     pub(super) config: TeamConfig,
     pub(super) agents: Vec<Agent>,
     pub(super) base: BaseStation,
-    /// The semantic oracle: room extents, labels, doors and visibility of paper 002 §4.
+    /// The team's semantic map (paper 002 §4): rooms, labels, doors and visibility, from the
+    /// semantic oracle or segmented from the team's own map.
     pub(super) semantic: SemanticMap,
     pub(super) measures: Measures,
     pub(super) sizer: TeamSizer,
@@ -97,8 +98,9 @@ pub struct TeamController {
     pub(super) team_sizes: Vec<Option<(Option<RoomLabel>, f64, usize)>>,
     /// Where and when robots reached their targets, waiting for a scan there to be merged.
     pub(super) arrivals: Vec<(Point2, f64)>,
-    /// The clock at this step.
+    /// The clock at this step, and the length of a step.
     pub(super) now: f64,
+    dt_s: f64,
     /// Steps seen (0 before the first).
     step: u64,
     /// Robots whose recovery ended at the last step: they need a target.
@@ -147,7 +149,7 @@ impl TeamController {
         ))
     }
 
-    /// A team for robots starting at `starts`, its maps on `geometry`, its semantic oracle
+    /// A team for robots starting at `starts`, its maps on `geometry`, its semantic map
     /// `semantic`, its random choices drawn from streams of `seed`.
     fn new(
         config: TeamConfig,
@@ -158,6 +160,7 @@ impl TeamController {
         seed: u64,
     ) -> Self {
         let params = OccupancyParams::default();
+        let dt_s = config.sim.dt_s;
         let agents = starts
             .iter()
             .map(|&pose| Agent {
@@ -216,6 +219,7 @@ impl TeamController {
             team_sizes,
             arrivals: Vec::new(),
             now: 0.0,
+            dt_s,
             step: 0,
             replan: Vec::new(),
             idle_since: None,
@@ -234,11 +238,6 @@ impl TeamController {
     /// stairs its robots cannot take, reported by another robot).
     pub fn keep_out(&mut self, a: Point2, b: Point2, radius_m: f64) {
         self.base.keep_out(a, b, radius_m);
-    }
-
-    /// The team's robots' poses as the team believes them.
-    pub fn believed_poses(&self) -> Vec<Pose2> {
-        self.agents.iter().map(|a| a.pose).collect()
     }
 
     /// Each robot's trajectory (its believed position once per simulated second).
@@ -288,14 +287,14 @@ impl TeamController {
     }
 
     fn every(&self, period_s: f64) -> bool {
-        let n = (period_s / self.config.sim.dt_s).round().max(1.0) as u64;
-        self.step.is_multiple_of(n)
+        every(period_s, self.dt_s, self.step)
     }
 
     /// Reads where every robot is and whether it answers: the true pose under the localization
     /// oracle.
     fn refresh(&mut self, io: &FleetIo<'_>) {
         self.now = io.time_s();
+        self.dt_s = io.dt_s();
         for (k, a) in self.agents.iter_mut().enumerate() {
             let alive = io.alive(k);
             if a.alive && !alive {

@@ -63,10 +63,7 @@ impl TeamEvaluation {
         }
         let g = *team.base.merged.geometry();
         for a in team.take_assignments() {
-            let room = self
-                .relevant
-                .room_of(g.index(a.target))
-                .or_else(|| self.relevant.room_near(&g, a.candidate));
+            let room = self.relevant.room_near(&g, a.target);
             if let Some(k) = room {
                 *self
                     .assigned_per_label

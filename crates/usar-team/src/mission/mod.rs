@@ -104,6 +104,12 @@ pub struct TeamMission {
     samples: Vec<Sample>,
 }
 
+/// Whether step `step` is one of every `period_s` (rounded to steps of `dt_s`, at least 1).
+fn every(period_s: f64, dt_s: f64, step: u64) -> bool {
+    let n = (period_s / dt_s).round().max(1.0) as u64;
+    step.is_multiple_of(n)
+}
+
 /// The grid of the team's maps: the scene's, or the same extent at `resolution_m`.
 pub(crate) fn map_geometry(scene: &Scene, resolution_m: Option<f64>) -> GridGeometry {
     let g = *scene.geometry();
@@ -171,8 +177,7 @@ impl TeamMission {
     }
 
     fn every(&self, period_s: f64, step: u64) -> bool {
-        let n = (period_s / self.config.sim.dt_s).round().max(1.0) as u64;
-        step.is_multiple_of(n)
+        every(period_s, self.config.sim.dt_s, step)
     }
 
     /// Follows what the team did at its last step.
@@ -182,7 +187,7 @@ impl TeamMission {
             .update(&mut self.team, &truth, self.host.fleet(self.fleet));
     }
 
-    /// The semantic oracle the team bids with.
+    /// The semantic map the team bids with (the oracle's or its own segmentation).
     pub fn semantic_map(&self) -> &SemanticMap {
         &self.team.semantic
     }
@@ -203,7 +208,8 @@ impl TeamMission {
             .is_some_and(|before| last.coverage - before.coverage < self.config.stall_growth)
     }
 
-    /// Samples the metrics; the start sample is taken before the team's first allocation.
+    /// Samples the metrics. The start sample is taken after the team's first step, with the
+    /// assignments counted as none: it stands for the moment before the first allocation.
     fn sample(&mut self, at_start: bool) {
         let truth = self.host.evaluator();
         let assigned_per_label = if at_start {

@@ -128,8 +128,10 @@ pub struct Explorer<'a> {
     now: f64,
     contact: bool,
     started: bool,
-    /// Why the exploration ended, or what went wrong, once it has.
+    /// Why the exploration ended, or what went wrong, once it has (until taken).
     finished: Option<Result<StopReason, BuildError>>,
+    /// The exploration has ended: it commands nothing more.
+    done: bool,
     loc: Localizer,
     map: MapWriter<'a>,
     raw: LaserScan,
@@ -172,6 +174,7 @@ impl<'a> Explorer<'a> {
             contact: false,
             started: false,
             finished: None,
+            done: false,
             loc: {
                 // Odometry starts at the start pose.
                 let loc = Localizer::new(
@@ -849,10 +852,12 @@ impl<'a> Explorer<'a> {
 
 impl Controller for Explorer<'_> {
     fn step(&mut self, io: &mut FleetIo<'_>) {
-        if self.finished.is_some() {
+        if self.done {
             return;
         }
-        match self.control(io) {
+        let result = self.control(io);
+        self.done = !matches!(result, Ok(Step::Drive(_)));
+        match result {
             Ok(Step::Drive(command)) => io.command(0, command),
             Ok(Step::Stop(stop)) => self.finished = Some(Ok(stop)),
             Err(e) => self.finished = Some(Err(e)),
