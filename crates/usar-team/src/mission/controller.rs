@@ -105,8 +105,8 @@ pub struct TeamController {
     step: u64,
     /// Robots whose recovery ended at the last step: they need a target.
     pub(super) replan: Vec<usize>,
-    idle_since: Option<f64>,
-    explored: bool,
+    pub(super) idle_since: Option<f64>,
+    pub(super) explored: bool,
     /// Merges done so far (the evaluator follows the merged map's changes by it).
     merges: u64,
     /// With segmented semantics: the merge the rooms were last segmented after.
@@ -416,7 +416,6 @@ impl TeamController {
         for (k, a) in self.agents.iter_mut().enumerate() {
             a.recovery.record(io.achieved(k), dt_s);
         }
-        let now = self.now;
         if self.every(self.config.timing.scan_period_s) {
             self.scan_all(io);
         }
@@ -432,70 +431,14 @@ impl TeamController {
                 a.trajectory.push(a.pose.position());
             }
         }
-        // Who needs a new target: reached it, has none, made no progress, or recovered.
-        let mut who = std::mem::take(&mut self.replan);
-        let auctioned = self.config.exploration.strategy != Strategy::Nearest;
-        let tuning = self.config.tuning;
-        for (i, a) in self.agents.iter_mut().enumerate() {
-            if !a.alive || a.recovery.is_active() || who.contains(&i) {
-                continue;
-            }
-            let done = a.follower.is_done(a.pose);
-            if a.target.is_some() && !done && now - a.progress_mark.1 >= tuning.stuck_window_s {
-                let (mark, _) = a.progress_mark;
-                let (stuck, turned) = stuck_check(&tuning, mark, a.pose, a.turned_in_place_rad);
-                a.turned_in_place_rad = turned;
-                if stuck {
-                    a.blacklist
-                        .push((a.target.expect("has target"), now + tuning.blacklist_s));
-                    a.follower = PathFollower::default();
-                    a.target = None;
-                    who.push(i);
-                    continue;
-                }
-                a.progress_mark = (a.pose, now);
-            }
-            if a.escaping {
-                if done {
-                    a.escaping = false;
-                    who.push(i);
-                }
-                continue;
-            }
-            if done && let Some(reached) = a.target {
-                // A frontier that did not resolve on arrival (it lies behind something the
-                // laser cannot see past) is left alone for a while.
-                a.blacklist
-                    .push((reached, now + tuning.reached_blacklist_s));
-                if auctioned {
-                    self.visited
-                        .push((reached, now + tuning.visited_blacklist_s));
-                    self.arrivals.push((a.pose.position(), now));
-                }
-                a.target = None;
-                who.push(i);
-            } else if done && merged_now {
-                who.push(i);
-            }
-        }
+        let mut who = self.needing_targets(merged_now);
         if self.every(self.config.timing.assignment_period_s) {
             who = (0..self.agents.len()).collect();
         }
         if !who.is_empty() {
             self.assign(&who);
         }
-        if self
-            .agents
-            .iter()
-            .all(|a| a.target.is_none() && !a.escaping)
-        {
-            let since = *self.idle_since.get_or_insert(now);
-            if now - since >= tuning.explored_after_s {
-                self.explored = true;
-            }
-        } else {
-            self.idle_since = None;
-        }
+        self.check_explored();
     }
 
     /// The last merge of a mission that ends.

@@ -6,6 +6,78 @@ use super::*;
 use usar_sim::host::FleetIo;
 
 impl TeamController {
+    /// Who needs a new target after the last step: robots whose recovery ended, that reached
+    /// their target (or, with none, stand where a merge may have opened something), made no
+    /// progress towards it (it is blacklisted), or finished retracing.
+    pub(super) fn needing_targets(&mut self, merged_now: bool) -> Vec<usize> {
+        let now = self.now;
+        let mut who = std::mem::take(&mut self.replan);
+        let auctioned = self.config.exploration.strategy != Strategy::Nearest;
+        let tuning = self.config.tuning;
+        for (i, a) in self.agents.iter_mut().enumerate() {
+            if !a.alive || a.recovery.is_active() || who.contains(&i) {
+                continue;
+            }
+            let done = a.follower.is_done(a.pose);
+            if a.target.is_some() && !done && now - a.progress_mark.1 >= tuning.stuck_window_s {
+                let (mark, _) = a.progress_mark;
+                let (stuck, turned) = stuck_check(&tuning, mark, a.pose, a.turned_in_place_rad);
+                a.turned_in_place_rad = turned;
+                if stuck {
+                    a.blacklist
+                        .push((a.target.expect("has target"), now + tuning.blacklist_s));
+                    a.follower = PathFollower::default();
+                    a.target = None;
+                    who.push(i);
+                    continue;
+                }
+                a.progress_mark = (a.pose, now);
+            }
+            if a.escaping {
+                if done {
+                    a.escaping = false;
+                    who.push(i);
+                }
+                continue;
+            }
+            if done && let Some(reached) = a.target {
+                // A frontier that did not resolve on arrival (it lies behind something the
+                // laser cannot see past) is left alone for a while.
+                a.blacklist
+                    .push((reached, now + tuning.reached_blacklist_s));
+                if auctioned {
+                    self.visited
+                        .push((reached, now + tuning.visited_blacklist_s));
+                    self.arrivals.push((a.pose.position(), now));
+                }
+                a.target = None;
+                who.push(i);
+            } else if done && merged_now {
+                who.push(i);
+            }
+        }
+        who
+    }
+
+    /// The team believes the floor explored once nobody has had anything to do for
+    /// [`Tuning::explored_after_s`].
+    pub(super) fn check_explored(&mut self) {
+        let now = self.now;
+        let tuning = self.config.tuning;
+        if self
+            .agents
+            .iter()
+            .all(|a| a.target.is_none() && !a.escaping)
+        {
+            let since = *self.idle_since.get_or_insert(now);
+            if now - since >= tuning.explored_after_s {
+                self.explored = true;
+            }
+        } else {
+            self.idle_since = None;
+        }
+    }
+
     /// Every robot's velocity for the coming step: a recovery manoeuvre, or its path, giving
     /// way to a team mate close ahead.
     pub(super) fn drive(&mut self, io: &mut FleetIo<'_>) {

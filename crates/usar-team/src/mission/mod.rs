@@ -38,7 +38,7 @@ mod live;
 
 pub use self::allocation::{Allocate, Auction, NearestFrontier};
 pub use self::controller::{Assignment, TeamController, VictimReport};
-use self::driving::stuck_check;
+
 pub use self::evaluation::TeamEvaluation;
 
 /// Random streams of the team (robots use streams 0, 1, … of the simulation's seed; the radio
