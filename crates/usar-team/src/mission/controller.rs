@@ -126,11 +126,11 @@ impl TeamController {
     ) -> Result<Self, MissionError> {
         let measures = config.check(scene.geometry().resolution_m)?;
         if starts.len() != config.robots {
-            return Err(MissionError::Config(format!(
-                "{} start poses for a team of {}",
+            return Err(super::check::invalid(
+                "start poses",
                 starts.len(),
-                config.robots
-            )));
+                format!("one per robot of the team, {}", config.robots),
+            ));
         }
         let geometry = map_geometry(scene, config.map_resolution_m);
         let label_rng = Pcg64Mcg::seed_from_u64(derive_seed(seed, SEMANTIC_STREAM));

@@ -31,6 +31,7 @@ use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_
 mod allocation;
 mod auction;
 mod check;
+pub use self::check::ConfigError;
 mod controller;
 mod driving;
 mod evaluation;
@@ -61,9 +62,9 @@ pub enum MissionError {
     /// A robot could not be placed.
     #[error(transparent)]
     Placement(#[from] PlacementError),
-    /// The configuration is invalid.
+    /// A setting of the configuration is invalid.
     #[error("invalid team configuration: {0}")]
-    Config(String),
+    Config(#[from] ConfigError),
     /// A fuzzy measure of the configuration is invalid.
     #[error("invalid team configuration: {which} measure: {source}")]
     Measure {
