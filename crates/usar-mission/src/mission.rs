@@ -6,7 +6,7 @@ use crate::controllers::{SharingCrawler, TeamWithBtm};
 use crate::outcome::{CrawlerFigures, MissionOutcome, MissionSample, TeamFigures, VictimRow};
 use crate::{CrawlerPart, MissionConfig, MissionError};
 use std::sync::Arc;
-use usar_btm::build::{BuildConfig, Explorer, count_nodes};
+use usar_btm::build::{BuildConfig, BuildError, Explorer, count_nodes};
 use usar_btm::plan::RobotLimits;
 use usar_btm::store::BtmStore;
 use usar_map::segmentation::SegmentationParams;
@@ -99,9 +99,10 @@ fn crawler_part(
     let mut build = part.build.clone();
     build.dt_s = dt_s;
     build.max_time_s = build.max_time_s.max(minutes * 60.0);
-    build
-        .validate()
-        .map_err(|(field, found)| bad(&format!("crawler.build.{field}"), found))?;
+    build.validate().map_err(|e| match e {
+        BuildError::Config { field, found } => bad(&format!("crawler.build.{field}"), found),
+        other => other.into(),
+    })?;
     Ok(Some((
         RobotSpec::load(&part.robot)?,
         build,

@@ -1,6 +1,7 @@
 //! Every constant of BTM generation (paper 004 §III–IV) that the paper leaves open, with the
 //! default chosen here and why.
 
+use super::BuildError;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of [`crate::build::build_btm`]. Lengths in metres, angles in radians, speeds in
@@ -162,8 +163,13 @@ impl Default for BuildConfig {
 }
 
 impl BuildConfig {
-    /// Checks the values; the error names the field, the value found and what was expected.
-    pub fn validate(&self) -> Result<(), (String, String)> {
+    /// Checks the values; the error ([`BuildError::Config`]) names the field, the value found
+    /// and what was expected.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        let bad = |field: &str, found: String| BuildError::Config {
+            field: field.into(),
+            found,
+        };
         let positive = [
             ("band_far_m", self.band_far_m),
             ("search_margin_m", self.search_margin_m),
@@ -186,7 +192,7 @@ impl BuildConfig {
         ];
         for (field, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err((field.into(), format!("{v}, expected a positive number")));
+                return Err(bad(field, format!("{v}, expected a positive number")));
             }
         }
         let non_negative = [
@@ -206,12 +212,12 @@ impl BuildConfig {
         ];
         for (field, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
-                return Err((field.into(), format!("{v}, expected a number ≥ 0")));
+                return Err(bad(field, format!("{v}, expected a number ≥ 0")));
             }
         }
         if self.band_near_m >= self.band_far_m {
-            return Err((
-                "band_near_m".into(),
+            return Err(bad(
+                "band_near_m",
                 format!(
                     "{}, expected less than band_far_m = {}",
                     self.band_near_m, self.band_far_m

@@ -140,9 +140,7 @@ pub fn build_btm_observed(
     store: Option<&BtmStore>,
     on_progress: &mut dyn FnMut(f64, Pose2, &Btm),
 ) -> Result<BuildOutcome, BuildError> {
-    config
-        .validate()
-        .map_err(|(field, found)| BuildError::Config { field, found })?;
+    config.validate()?;
     let start = *scene
         .start_poses
         .first()
