@@ -1,6 +1,6 @@
 //! `usar btm`: export, plan (robot limits, exit 3), merge, show, bad input.
 
-use super::{assert_bad_input, usar};
+use super::{assert_bad_input, usar, usar_json};
 
 /// Start 1 — T junction 2 — slope 3 (20°, a 0.6 m wide passage) — dead end 4; and a wide detour
 /// 2 — 5 — 4 with a 0.3 m step.
@@ -138,16 +138,6 @@ fn merge_show_and_bad_input() {
     );
 }
 
-fn build(args: &[&str]) -> serde_json::Value {
-    let out = usar(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
 fn count(v: &serde_json::Value, key: &str) -> u64 {
     v["nodes_by_kind"][key].as_u64().unwrap_or(0)
 }
@@ -158,7 +148,7 @@ fn build_on_the_course_reports_nodes_links_and_a_map_100_times_smaller_than_the_
     let db = dir.path().join("course.sqlite");
     let png = dir.path().join("course.png");
     let trace = dir.path().join("trace.csv");
-    let v = build(&[
+    let v = usar_json(&[
         "btm",
         "build",
         "--scene",
@@ -210,12 +200,12 @@ fn build_on_the_course_reports_nodes_links_and_a_map_100_times_smaller_than_the_
     );
     // The database is complete (no .partial left) and holds the same map.
     assert!(!dir.path().join("course.sqlite.partial").exists());
-    let exported = build(&["btm", "export", db.to_str().unwrap(), "--json"]);
+    let exported = usar_json(&["btm", "export", db.to_str().unwrap(), "--json"]);
     assert_eq!(exported["nodes"], v["nodes"]);
     assert_eq!(exported["links"], v["links"]);
     // The binary form round-trips to the same topology.
     let btmb = dir.path().join("course.btmb");
-    build(&[
+    usar_json(&[
         "btm",
         "export",
         db.to_str().unwrap(),
@@ -223,7 +213,7 @@ fn build_on_the_course_reports_nodes_links_and_a_map_100_times_smaller_than_the_
         btmb.to_str().unwrap(),
         "--json",
     ]);
-    let back = build(&["btm", "export", btmb.to_str().unwrap(), "--json"]);
+    let back = usar_json(&["btm", "export", btmb.to_str().unwrap(), "--json"]);
     assert_eq!(back["nodes_by_kind"], v["nodes_by_kind"]);
     assert_eq!(
         back["links"].as_array().unwrap().len(),
@@ -275,7 +265,7 @@ fn build_on_the_real_willow_garage_floor_finds_its_corridor_junctions() {
         env!("CARGO_MANIFEST_DIR"),
         "/../../configs/btm-real-floor.toml"
     );
-    let v = build(&[
+    let v = usar_json(&[
         "btm",
         "build",
         "--scene",

@@ -25,6 +25,18 @@ fn usar_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     cmd.output().expect("usar runs")
 }
 
+/// Runs `usar args`, which must succeed, and reads its standard output as JSON.
+fn usar_json(args: &[&str]) -> serde_json::Value {
+    let out = usar(args);
+    assert!(
+        out.status.success(),
+        "usar {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 fn shared(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/maps")

@@ -7,7 +7,7 @@
 //! Output paths (`out`, `policy`) are dropped before comparing; everything else must match to
 //! the last digit (a run is a pure function of scene, configuration and seed).
 
-use super::usar;
+use super::usar_json;
 use std::path::{Path, PathBuf};
 
 fn golden_dir() -> PathBuf {
@@ -17,14 +17,7 @@ fn golden_dir() -> PathBuf {
 /// The command's JSON, without the keys naming files this run wrote, pretty-printed with
 /// sorted keys.
 fn canonical_json(args: &[&str]) -> String {
-    let out = usar(args);
-    assert!(
-        out.status.success(),
-        "usar {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let mut value = usar_json(args);
     if let Some(map) = value.as_object_mut() {
         map.remove("out");
         map.remove("policy");

@@ -13,7 +13,7 @@ use usar_map::segmentation::SegmentationParams;
 use usar_sim::host::{FleetId, Host, Oracles, RadioSpec};
 use usar_sim::{RobotSpec, SimConfig};
 use usar_team::setup::TeamSetup;
-use usar_team::{Localization, Radio, TeamConfig, TeamController, TeamEvaluation};
+use usar_team::{Radio, TeamConfig, TeamController, TeamEvaluation};
 use usar_world::{Point2, Scene};
 
 /// How often the mission's coverage and relevant area are sampled, seconds.
@@ -155,14 +155,11 @@ impl<'a> Mission<'a> {
                 drop_probability: 0.0,
                 base: Some(base),
             });
-        let team_oracles = Oracles {
-            localization: team_config.localization == Localization::True,
-        };
         let team_robots: Vec<_> = starts
             .iter()
             .map(|&p| (team_config.robot.clone(), p))
             .collect();
-        let team_fleet = host.add_fleet_with(&team_robots, team_oracles)?;
+        let team_fleet = host.add_fleet_with(&team_robots, team_config.oracles())?;
         // The team's controller runs the base station.
         host.set_base_owner(team_fleet);
         let spec = &team_config.robot;

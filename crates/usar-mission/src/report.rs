@@ -4,7 +4,6 @@
 
 use crate::MissionOutcome;
 use std::path::Path;
-use usar_map::CellClass;
 use usar_world::render::Canvas;
 use usar_world::{Point2, write_atomic};
 
@@ -32,18 +31,7 @@ const CRAWLER_RGB: [u8; 3] = [255, 127, 14];
 /// links and nodes in the crawler's orange; trajectories; victims seen (green discs) and missed
 /// (red circles).
 pub fn render_mission_map(outcome: &MissionOutcome) -> Canvas {
-    let grid = &outcome.merged_map;
-    let g = *grid.geometry();
-    let mut canvas = Canvas::fit(g, 1600);
-    canvas.fill([150, 150, 150]);
-    for i in 0..g.len() {
-        let rgb = match grid.class_at_index(i) {
-            CellClass::Unknown => continue,
-            CellClass::Free => [255, 255, 255],
-            CellClass::Occupied => [0, 0, 0],
-        };
-        canvas.fill_cell(g.cell_of_index(i), rgb);
-    }
+    let mut canvas = usar_team::report::draw_grid(&outcome.merged_map);
     for &(a, b, r) in &outcome.keep_outs {
         let steps = (a.distance(b) / (r / 2.0).max(0.05)).ceil().max(1.0) as usize;
         for k in 0..=steps {

@@ -51,18 +51,7 @@ fn the_slopes_and_stairs_the_crawler_records_are_closed_to_the_wheeled_robots() 
     // Every obstacle node the crawler recorded lies in a keep-out zone, and every zone lies
     // on the BTM's obstacle links or nodes.
     let btm = out.btm.as_ref().unwrap();
-    let in_zone = |p: usar_world::Point2| {
-        out.keep_outs.iter().any(|&(a, b, r)| {
-            let (dx, dy) = (b.x - a.x, b.y - a.y);
-            let len2 = dx * dx + dy * dy;
-            let t = if len2 > 0.0 {
-                (((p.x - a.x) * dx + (p.y - a.y) * dy) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p.distance(usar_world::Point2::new(a.x + t * dx, a.y + t * dy)) <= r
-        })
-    };
+    let in_zone = |p| usar_team::base_station::kept_out(&out.keep_outs, p);
     let obstacle_nodes: Vec<usar_world::Point2> = btm
         .nodes
         .iter()

@@ -150,6 +150,8 @@ pub struct Simulation {
     seed: u64,
     time_s: f64,
     blocked_cache: Vec<(RobotSpec, Arc<Grid<bool>>)>,
+    /// Scratch: the other robots as laser bodies.
+    bodies: Vec<Body>,
 }
 
 /// SplitMix64: a well-mixed 64-bit value from a seed and a stream number, so that each robot's
@@ -172,6 +174,7 @@ impl Simulation {
             seed,
             time_s: 0.0,
             blocked_cache: Vec::new(),
+            bodies: Vec::new(),
         }
     }
 
@@ -350,22 +353,20 @@ impl Simulation {
     /// Takes a 2-D laser scan from robot `id` into `scan` (buffer reused).
     pub fn scan_laser(&mut self, id: RobotId, scan: &mut LaserScan) {
         let floor = self.floor_z(self.robots[id.0].pose.position());
-        let bodies: Vec<Body> = if self.config.robots_in_lasers {
-            self.robots
-                .iter()
-                .filter(|o| o.id != id)
-                .map(|o| Body {
-                    pose: o.pose,
-                    half_length_m: o.spec.length_m / 2.0,
-                    half_width_m: o.spec.width_m / 2.0,
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
+        // The other robots as bodies, in a buffer kept between scans.
+        let mut bodies = std::mem::take(&mut self.bodies);
+        bodies.clear();
+        if self.config.robots_in_lasers {
+            bodies.extend(self.robots.iter().filter(|o| o.id != id).map(|o| Body {
+                pose: o.pose,
+                half_length_m: o.spec.length_m / 2.0,
+                half_width_m: o.spec.width_m / 2.0,
+            }));
+        }
         let r = &mut self.robots[id.0];
         r.laser
             .scan_among(&self.world, &bodies, r.pose, floor, &mut r.noise.main, scan);
+        self.bodies = bodies;
     }
 
     pub fn read_thermal(&mut self, id: RobotId) -> Vec<HeatDetection> {

@@ -109,14 +109,20 @@ impl BaseStation {
         &self.keep_out
     }
 
-    /// Makes map cell `c` impassable on both planning grids and its coarse cell on the bid
+    /// Makes map cell `c` impassable on both planning grids, and its coarse cell on the bid
     /// grid when no map cell inside it stays passable.
     fn close(&mut self, c: Cell) {
         for grid in &mut self.nav_grids {
             grid.set_passable(c, false);
         }
+        self.refresh_coarse(c);
+    }
+
+    /// The bid grid's cell over map cell `fine`: passable when any map cell inside it is
+    /// passable with the tight radius (optimistic, so that no doorway closes).
+    fn refresh_coarse(&mut self, fine: Cell) {
         let k = self.bid_grid_factor as i32;
-        let coarse = Cell::new(c.col / k, c.row / k);
+        let coarse = Cell::new(fine.col / k, fine.row / k);
         let tight = &self.nav_grids[1];
         let passable = (0..k).any(|dr| {
             (0..k).any(|dc| tight.is_passable(Cell::new(coarse.col * k + dc, coarse.row * k + dr)))
@@ -150,23 +156,17 @@ impl BaseStation {
             for &i in touched {
                 let i = i as usize;
                 let c = g.cell_of_index(i);
-                let open = nav.is_navigable(&self.merged, i)
-                    && (self.keep_out.is_empty() || !kept_out(&self.keep_out, g.cell_center(c)));
+                let open = nav.is_navigable(&self.merged, i) && !self.is_kept_out(c);
                 self.nav_grids[k].set_passable(c, open);
             }
         }
         // The bid grid: only the coarse cells over map cells whose tight navigability may have
         // changed are looked at again.
-        let k = self.bid_grid_factor as i32;
-        let tight = &self.nav_grids[1];
-        for &i in &self.touched_tight {
-            let f = g.cell_of_index(i as usize);
-            let c = Cell::new(f.col / k, f.row / k);
-            let passable = (0..k).any(|dr| {
-                (0..k).any(|dc| tight.is_passable(Cell::new(c.col * k + dc, c.row * k + dr)))
-            });
-            self.bid_grid.set_passable(c, passable);
+        let touched = std::mem::take(&mut self.touched_tight);
+        for &i in &touched {
+            self.refresh_coarse(g.cell_of_index(i as usize));
         }
+        self.touched_tight = touched;
     }
 
     /// The cells whose class changed at the last merge.
@@ -179,8 +179,9 @@ impl BaseStation {
     }
 }
 
-/// Whether `p` lies in one of the keep-out segments.
-fn kept_out(keep_out: &[(Point2, Point2, f64)], p: Point2) -> bool {
+/// Whether `p` lies in one of the keep-out segments `keep_out` ((from, to, radius), as
+/// [`BaseStation::keep_outs`] gives them).
+pub fn kept_out(keep_out: &[(Point2, Point2, f64)], p: Point2) -> bool {
     keep_out
         .iter()
         .any(|&(a, b, r)| segment_distance(p, a, b) <= r)

@@ -223,6 +223,16 @@ impl Semantics {
     }
 }
 
+impl TeamConfig {
+    /// The oracles the team's controller is given on the host: the localization oracle under
+    /// [`Localization::True`].
+    pub fn oracles(&self) -> usar_sim::host::Oracles {
+        usar_sim::host::Oracles {
+            localization: self.localization == Localization::True,
+        }
+    }
+}
+
 /// The pose a team's robots map and drive at.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

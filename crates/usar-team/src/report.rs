@@ -5,7 +5,7 @@
 use crate::outcome::TeamOutcome;
 use serde_json::json;
 use std::path::Path;
-use usar_map::CellClass;
+use usar_map::{CellClass, OccupancyGrid};
 use usar_plot::{LineChart, PALETTE, Series};
 use usar_world::render::Canvas;
 use usar_world::{Scene, write_atomic};
@@ -23,13 +23,12 @@ pub enum ReportError {
     Csv(String),
 }
 
-/// Renders the base station's map: unknown grey, free white, occupied black; trajectories in
-/// the palette colours; victims seen as filled green discs, victims missed as red circles.
-pub fn render_explored_map(scene: &Scene, outcome: &TeamOutcome) -> Canvas {
-    let grid = &outcome.merged_map;
-    let mut canvas = Canvas::fit(*grid.geometry(), 1600);
-    canvas.fill([150, 150, 150]);
+/// An occupancy grid on a canvas at most 1 600 pixels a side: unknown grey, free white,
+/// occupied black.
+pub fn draw_grid(grid: &OccupancyGrid) -> Canvas {
     let g = *grid.geometry();
+    let mut canvas = Canvas::fit(g, 1600);
+    canvas.fill([150, 150, 150]);
     for i in 0..g.len() {
         let rgb = match grid.class_at_index(i) {
             CellClass::Unknown => continue,
@@ -38,6 +37,13 @@ pub fn render_explored_map(scene: &Scene, outcome: &TeamOutcome) -> Canvas {
         };
         canvas.fill_cell(g.cell_of_index(i), rgb);
     }
+    canvas
+}
+
+/// Renders the base station's map: unknown grey, free white, occupied black; trajectories in
+/// the palette colours; victims seen as filled green discs, victims missed as red circles.
+pub fn render_explored_map(scene: &Scene, outcome: &TeamOutcome) -> Canvas {
+    let mut canvas = draw_grid(&outcome.merged_map);
     for (k, robot) in outcome.per_robot.iter().enumerate() {
         let (r, gr, b) = PALETTE[k % PALETTE.len()];
         canvas.draw_polyline(&robot.trajectory, [r, gr, b]);

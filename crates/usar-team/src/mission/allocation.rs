@@ -124,11 +124,7 @@ impl TeamController {
                         .unwrap_or_default();
                     let waypoints: Vec<Point2> =
                         path.iter().rev().map(|&c| g.cell_center(c)).collect();
-                    agent.follower = PathFollower::new(waypoints);
-                    agent.target = Some(target);
-                    agent.recoveries = 0;
-                    agent.escaping = false;
-                    agent.may_retrace = true;
+                    agent.head_for(target, waypoints);
                 }
                 None => self.idle(i),
             }

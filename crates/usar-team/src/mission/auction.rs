@@ -359,12 +359,7 @@ impl TeamController {
                                     .map(|r| self.semantic.perceived_fraction(r)),
                             });
                             self.assignments.push(Assignment { target });
-                            let agent = &mut self.agents[i];
-                            agent.follower = PathFollower::new(waypoints);
-                            agent.target = Some(target);
-                            agent.recoveries = 0;
-                            agent.escaping = false;
-                            agent.may_retrace = true;
+                            self.agents[i].head_for(target, waypoints);
                         }
                         None => {
                             self.agents[i]

@@ -54,6 +54,18 @@ pub(super) struct Agent {
     localizer: Option<Localizer>,
 }
 
+impl Agent {
+    /// A new target and the path to it: recoveries counted afresh, no escape under way, and
+    /// one retrace allowed again when the robot later has nothing to do.
+    pub(super) fn head_for(&mut self, target: Cell, waypoints: Vec<Point2>) {
+        self.follower = PathFollower::new(waypoints);
+        self.target = Some(target);
+        self.recoveries = 0;
+        self.escaping = false;
+        self.may_retrace = true;
+    }
+}
+
 /// A warm region with a human signature one of the team's robots saw: the team reports it, the
 /// evaluator tells which victim (if any) it was.
 #[derive(Clone, Copy, Debug, PartialEq)]

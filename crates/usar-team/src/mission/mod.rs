@@ -7,7 +7,6 @@
 use crate::assignment::{Candidate, assign_nearest, candidates, path_costs};
 use crate::base_station::BaseStation;
 use crate::bids::{Measures, TeamSizer};
-use crate::config::Localization;
 use crate::config::{Strategy, TeamConfig};
 use crate::coverage::CoverageCounter;
 use crate::driver::{PathFollower, Recovery, RecoveryStep};
@@ -23,7 +22,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 use usar_map::planning::{DistanceField, GridAStar, NavGrid};
 use usar_map::{OccupancyGrid, OccupancyParams};
-use usar_sim::host::{FleetId, Host, Oracles, RadioSpec};
+use usar_sim::host::{FleetId, Host, RadioSpec};
 use usar_sim::sensors::{HeatTruth, LaserScan};
 use usar_sim::{PlacementError, Simulation, Velocity, derive_seed};
 use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomLabel, Scene, normalize_angle};
@@ -135,11 +134,8 @@ impl TeamMission {
         let starts = &scene.start_poses[..config.robots];
         let team = TeamController::on_scene(&scene, config.clone(), starts, seed)?;
         let base = starts[0].position();
-        let oracles = Oracles {
-            localization: config.localization == Localization::True,
-        };
-        let mut host =
-            Host::new(scene.clone(), config.sim.clone(), seed, oracles).with_radio(RadioSpec {
+        let mut host = Host::new(scene.clone(), config.sim.clone(), seed, config.oracles())
+            .with_radio(RadioSpec {
                 range_m: config.radio.range_m,
                 drop_probability: config.radio.drop_probability,
                 base: Some(base),
