@@ -3,7 +3,7 @@
 //! crawler recorded they cannot take; and the crawler, which builds the map and sends it.
 
 use usar_btm::build::{BuildError, Explorer, StopReason};
-use usar_btm::plan::{RobotLimits, link_violations, node_violations};
+use usar_btm::plan::{Limit, RobotLimits, link_violations, node_violations};
 use usar_btm::wire;
 use usar_sim::host::{Controller, Endpoint, FleetIo};
 use usar_team::TeamController;
@@ -36,15 +36,23 @@ impl TeamWithBtm {
         }
     }
 
-    /// Closes every link and node of `btm` the team's robots cannot take (too narrow, too
-    /// steep, too high a step, as the crawler measured them).
+    /// Closes every link and node of `btm` too steep or with too high a step for the team's
+    /// robots, as the crawler measured them: the slopes and stairs the team's own 2-D lasers
+    /// cannot see. Width is not taken from the BTM: the team's maps show it, and the crawler's
+    /// width samples are unreliable at a link's ends (a start link measured 0.01 m wide,
+    /// issue 23).
     fn keep_off(&mut self, btm: &usar_btm::model::Btm) {
+        let unclimbable = |violations: Vec<(Limit, String)>| {
+            violations
+                .iter()
+                .any(|(limit, _)| matches!(limit, Limit::Inclination | Limit::Step))
+        };
         for link in &btm.links {
             let (Some(a), Some(b)) = (btm.node(link.start), link.end.and_then(|e| btm.node(e)))
             else {
                 continue;
             };
-            if !link_violations(link, &self.limits).is_empty() {
+            if unclimbable(link_violations(link, &self.limits)) {
                 let half_width = link.min_width_m.unwrap_or(0.0) / 2.0;
                 self.team.keep_out(
                     Point2::new(a.x_m, a.y_m),
@@ -54,7 +62,7 @@ impl TeamWithBtm {
             }
         }
         for node in &btm.nodes {
-            if !node_violations(node, &self.limits).is_empty() {
+            if unclimbable(node_violations(node, &self.limits)) {
                 let p = Point2::new(node.x_m, node.y_m);
                 self.team.keep_out(p, p, self.clearance_m);
             }
