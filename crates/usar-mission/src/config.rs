@@ -74,6 +74,9 @@ pub struct CrawlerPart {
     pub robot: String,
     /// It sends its whole map to the base station this often, seconds.
     pub share_period_s: f64,
+    /// The base station also closes links and nodes the crawler measured narrower than the
+    /// team's robots (by default only slopes and stairs: the team's own maps show widths).
+    pub keep_out_narrow: bool,
     /// Its builder's parameters (`usar btm build --config`), but for its step, which is the
     /// mission's, and its time limit, which is at least the mission's.
     pub build: BuildConfig,
@@ -85,6 +88,7 @@ impl Default for CrawlerPart {
             enabled: true,
             robot: "crawler".into(),
             share_period_s: 10.0,
+            keep_out_narrow: false,
             build: BuildConfig::default(),
         }
     }

@@ -20,17 +20,27 @@ pub struct TeamWithBtm {
     /// How far from a closed link or node the planners stay, metres: the robot's circumscribed
     /// radius.
     clearance_m: f64,
+    /// Whether links and nodes too narrow for the team's robots are closed too.
+    narrow_too: bool,
     /// BTMs received and ones that could not be read.
     pub maps_received: u32,
     pub maps_unreadable: u32,
 }
 
 impl TeamWithBtm {
-    pub fn new(team: TeamController, limits: RobotLimits, clearance_m: f64) -> Self {
+    /// `narrow_too`: also close links and nodes narrower than the team's robots (paper 004's
+    /// width limit), not only the slopes and stairs.
+    pub fn new(
+        team: TeamController,
+        limits: RobotLimits,
+        clearance_m: f64,
+        narrow_too: bool,
+    ) -> Self {
         Self {
             team,
             limits,
             clearance_m,
+            narrow_too,
             maps_received: 0,
             maps_unreadable: 0,
         }
@@ -38,14 +48,16 @@ impl TeamWithBtm {
 
     /// Closes every link and node of `btm` too steep or with too high a step for the team's
     /// robots, as the crawler measured them: the slopes and stairs the team's own 2-D lasers
-    /// cannot see. Width is not taken from the BTM: the team's maps show it, and the crawler's
-    /// width samples are unreliable at a link's ends (a start link measured 0.01 m wide,
-    /// issue 23).
+    /// cannot see (and, with `narrow_too`, those too narrow). By default width is not taken
+    /// from the BTM: the team's maps show it, and the crawler's width samples are unreliable at
+    /// a link's ends (a start link measured 0.01 m wide, issue 23).
     fn keep_off(&mut self, btm: &usar_btm::model::Btm) {
+        let narrow_too = self.narrow_too;
         let unclimbable = |violations: Vec<(Limit, String)>| {
-            violations
-                .iter()
-                .any(|(limit, _)| matches!(limit, Limit::Inclination | Limit::Step))
+            violations.iter().any(|(limit, _)| match limit {
+                Limit::Inclination | Limit::Step => true,
+                Limit::Width => narrow_too,
+            })
         };
         for link in &btm.links {
             let (Some(a), Some(b)) = (btm.node(link.start), link.end.and_then(|e| btm.node(e)))

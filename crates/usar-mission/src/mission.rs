@@ -163,7 +163,12 @@ impl<'a> Mission<'a> {
         // The team's controller runs the base station.
         host.set_base_owner(team_fleet);
         let spec = &team_config.robot;
-        let team = TeamWithBtm::new(team, RobotLimits::of(spec), spec.circumscribed_radius_m());
+        let team = TeamWithBtm::new(
+            team,
+            RobotLimits::of(spec),
+            spec.circumscribed_radius_m(),
+            config.crawler.keep_out_narrow,
+        );
         let crawler = match crawler {
             Some((spec, build, share_period_s)) => {
                 let start = scene.start_poses[team_config.robots];
