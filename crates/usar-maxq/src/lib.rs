@@ -7,11 +7,13 @@
 pub mod flat_q;
 pub mod maxq;
 pub mod schedule;
+pub mod stepper;
 pub mod taxi;
 
 pub use self::flat_q::{FlatQ, SparseFlatQ};
 pub use self::maxq::{Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind};
 pub use self::schedule::{ParamError, Schedule};
+pub use self::stepper::{Delegation, GreedyStepper, Next};
 
 /// The README's examples, compiled and run as doctests.
 #[doc = include_str!("../README.md")]

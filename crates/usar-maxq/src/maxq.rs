@@ -225,6 +225,22 @@ impl MaxqQ {
         self.v.iter().chain(&self.c).map(Table::stored).sum()
     }
 
+    /// The task graph.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The children of node `i` (none for a primitive).
+    pub fn children_of(&self, i: NodeId) -> &[NodeId] {
+        self.children(i)
+    }
+
+    /// The child of composite `i` the greedy policy picks in `s` (its index among the
+    /// children), as [`MaxqQ::greedy_episode`] picks it; `None` when no child is eligible.
+    pub fn greedy_child<S>(&self, h: &impl Hierarchy<S>, i: NodeId, s: &S) -> Option<usize> {
+        self.best_child(h, i, s, true).map(|(k, _)| k)
+    }
+
     fn children(&self, i: NodeId) -> &[NodeId] {
         match &self.nodes[i].kind {
             NodeKind::Composite { children } => children,

@@ -1,2 +1,3 @@
 mod apprentice;
+mod stepper;
 mod taxi;
