@@ -216,7 +216,7 @@ impl PacedDomain<'_> {
     fn publish(&self) {
         let state = self.inner.state();
         let view = &self.scene.view;
-        let cell = self.inner.robot.cell;
+        let cell = self.inner.agent.robot.cell;
         let p = view.cell_center(cell);
         let task = if state.done() {
             "exited"
@@ -232,14 +232,14 @@ impl PacedDomain<'_> {
         };
         let mut r = self.shared.lock_rescue();
         r.cell = cell;
-        r.heading = self.inner.robot.heading;
+        r.heading = self.inner.agent.robot.heading;
         r.pose = [
             p.x,
             p.y,
-            f64::from(self.inner.robot.heading) * std::f64::consts::FRAC_PI_2,
+            f64::from(self.inner.agent.robot.heading) * std::f64::consts::FRAC_PI_2,
         ];
         r.task = task.into();
-        r.tags = self.tags_before + self.inner.stats.victims_found + self.inner.stats.false_tags;
+        r.tags = self.tags_before + self.inner.agent.stats.victims_found + self.inner.agent.stats.false_tags;
         if r.handoff
             .as_ref()
             .is_some_and(|h| h.kind == HandOffKind::Stuck)
@@ -255,11 +255,11 @@ impl PacedDomain<'_> {
                 *entry = (mark, probability.or(entry.1));
             }
         }
-        if r.cell_map.len() != self.inner.map.cells.len() {
-            r.cell_map = vec![0; self.inner.map.cells.len()];
+        if r.cell_map.len() != self.inner.agent.map.cells.len() {
+            r.cell_map = vec![0; self.inner.agent.map.cells.len()];
         }
         let mut changed = false;
-        for (k, c) in self.inner.map.cells.iter().enumerate() {
+        for (k, c) in self.inner.agent.map.cells.iter().enumerate() {
             let code = cell_code(*c);
             if r.cell_map[k] != code {
                 r.cell_map[k] = code;
@@ -374,7 +374,7 @@ pub(crate) fn run_rescue_robot(
         learner.learn_episode(&hierarchy, &mut paced, s0, &mut rng);
         paced.publish();
         let explored_all = paced.inner.guidance().heading.is_none();
-        start = (paced.inner.robot.cell, paced.inner.robot.heading);
+        start = (paced.inner.agent.robot.cell, paced.inner.agent.robot.heading);
         let ready = paced.ready_at_s;
         operator = paced.inner.operator;
         shared.lock_rescue().episodes += 1;

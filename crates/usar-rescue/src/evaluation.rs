@@ -131,8 +131,8 @@ pub fn run_once(
         visited as f64 / reachable_cells as f64
     };
     Some((
-        domain.stats.steps,
-        domain.stats.clone(),
+        domain.agent.stats.steps,
+        domain.agent.stats.clone(),
         coverage,
         reachable_cells,
         victims.len() as u32,

@@ -26,6 +26,7 @@
 //! assert!(domain.guidance().heading.is_some()); // there is something to explore
 //! ```
 
+pub mod agent;
 pub mod analysis;
 pub mod cell_map;
 pub mod domain;
@@ -44,6 +45,7 @@ pub mod teleoperation;
 pub mod training;
 pub mod travel;
 
+pub use self::agent::RescueAgent;
 pub use self::domain::{DomainConfig, RescueDomain, RescueScene, RunStats, VictimMark};
 pub use self::hierarchy::RescueHierarchy;
 pub use self::state::{RescueState, VictimStatus};

@@ -15,6 +15,7 @@
 //! robot stands there (noise from the run's perception stream), and cached; or all at once
 //! beforehand ([`Perception::sense_all`]).
 
+use crate::agent::{CellReading, HeatReading};
 use crate::exploration::Direction;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
@@ -57,17 +58,6 @@ const OCCLUDED_SHARE: f64 = 0.4;
 /// and those of non-climbable cells start at 0.30 m (the rest of the pile hides behind its
 /// near face), against the 0.35 m limit.
 const VISIBLE_TOP_MARGIN_M: f64 = 0.06;
-
-/// One heat region seen from a (cell, heading).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HeatReading {
-    /// The coarse cell of the region's global position.
-    pub cell: (i32, i32),
-    pub human_signature: bool,
-    pub size_m2: f64,
-    /// Ground truth, for scoring and the simulated operator only.
-    pub truth: HeatTruth,
-}
 
 /// The cached reading of one (cell, heading).
 #[derive(Clone, Debug, Default)]
@@ -147,6 +137,26 @@ impl Perception {
             self.readings[key] = Some(r);
         }
         self.readings[key].as_ref().expect("just filled")
+    }
+
+    /// Everything the sensors read from `cell` facing `heading`.
+    pub fn read(
+        &mut self,
+        scene: &Scene,
+        view: &CellView,
+        cell: Cell,
+        heading: Direction,
+    ) -> CellReading<'_, HeatTruth> {
+        let Reading {
+            front,
+            infrared,
+            heat,
+        } = self.reading(scene, view, cell, heading).clone();
+        CellReading {
+            front,
+            infrared,
+            heat: &self.heat[heat.start as usize..heat.end as usize],
+        }
     }
 
     /// The class of the cell ahead as D_xy shows it.
@@ -231,7 +241,7 @@ impl Perception {
                 cell: (c.col, c.row),
                 human_signature: d.human_signature,
                 size_m2: d.size_m2,
-                truth: d.truth,
+                source: d.truth,
             });
         }
         Reading {

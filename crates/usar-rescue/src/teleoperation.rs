@@ -115,8 +115,8 @@ fn teleoperate(
     let view = &scene.view;
     for _ in 0..6000 {
         // Look at the cell ahead: a warm body or object there is identified once.
-        let (dc, dr) = d.robot.ahead();
-        let ahead = (d.robot.cell.col + dc, d.robot.cell.row + dr);
+        let (dc, dr) = d.agent.robot.ahead();
+        let ahead = (d.agent.robot.cell.col + dc, d.agent.robot.cell.row + dr);
         if !decided.contains(&ahead) {
             let truth = scene
                 .scene
@@ -174,8 +174,8 @@ fn teleoperate(
         victims_found: found,
         false_identifications: false_ids,
         explored_percent: 100.0 * visited as f64 / reachable_cells as f64,
-        collisions: d.stats.robot_collisions + d.stats.operator_collisions,
-        time_s: d.stats.time_s,
+        collisions: d.agent.stats.robot_collisions + d.agent.stats.operator_collisions,
+        time_s: d.agent.stats.time_s,
         handoffs: 0,
     }
 }

@@ -247,7 +247,7 @@ pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, Tra
             let mut point = TrialPoint {
                 trial: t,
                 maxq_reward: e.reward,
-                maxq_steps: domain.stats.steps,
+                maxq_steps: domain.agent.stats.steps,
                 maxq_finished: e.finished,
                 flat_reward: None,
                 flat_steps: None,
@@ -262,7 +262,7 @@ pub fn train(config: &TrainConfig, mut progress: impl FnMut(u32)) -> (MaxqQ, Tra
                     &mut flat_rng,
                 );
                 point.flat_reward = Some(e.reward);
-                point.flat_steps = Some(domain.stats.steps);
+                point.flat_steps = Some(domain.agent.stats.steps);
             }
             curve.push(point);
             progress(t + 1);

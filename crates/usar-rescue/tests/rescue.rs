@@ -298,7 +298,7 @@ fn the_flat_state_holds_the_whole_map_and_pose() {
     }
     let distinct: std::collections::BTreeSet<_> = keys[..4].iter().collect();
     assert_eq!(distinct.len(), 4, "four headings, four flat states");
-    assert_eq!(a.robot.heading, start.1);
+    assert_eq!(a.agent.robot.heading, start.1);
 }
 
 #[test]
