@@ -29,6 +29,8 @@
 pub mod agent;
 pub mod analysis;
 pub mod cell_map;
+pub mod controller;
+pub mod desk;
 pub mod domain;
 pub mod evaluation;
 pub mod exploration;
@@ -46,6 +48,7 @@ pub mod training;
 pub mod travel;
 
 pub use self::agent::RescueAgent;
+pub use self::controller::{RescueController, RescueLog};
 pub use self::domain::{DomainConfig, RescueDomain, RescueScene, RunStats, VictimMark};
 pub use self::hierarchy::RescueHierarchy;
 pub use self::state::{RescueState, VictimStatus};

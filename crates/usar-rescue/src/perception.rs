@@ -20,11 +20,11 @@ use crate::exploration::Direction;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use usar_sim::sensors::{
-    DepthSpec, HeatTruth, InfraredSpec, SensingWorld, ThermalSpec, read_depth, read_infrared,
-    read_thermal,
+    DepthImage, DepthSpec, HeatTruth, InfraredSpec, SensingWorld, ThermalSpec, read_depth,
+    read_infrared, read_thermal,
 };
 use usar_world::cellview::{CellClass, CellView, CellViewParams, LeastSquaresPlane};
-use usar_world::{Cell, Pose2, Scene};
+use usar_world::{Cell, Point2, Pose2, Rect, Scene};
 
 /// Victim probability p = f(h, s) (paper 000 §IV-A-3): 0 without a human heat signature,
 /// otherwise `s / (s + s₀)`, rising with the size of the warm region. With s₀ = 0.08 m² a
@@ -251,11 +251,55 @@ impl Perception {
         }
     }
 
+    /// Rubble classification of §IV-A-4 of the cell `ahead` from one D_xy frame taken now.
+    fn classify_ahead(
+        &mut self,
+        view: &CellView,
+        pose: Pose2,
+        floor_m: f64,
+        ahead: Cell,
+    ) -> CellClass {
+        let image = read_depth(&self.depth, &self.world, pose, floor_m, &mut self.rng);
+        let classifier = RubbleClassifier {
+            params: self.params,
+            reference_floor_m: self.reference_floor_m,
+            // Half a fine cell inside the border: a beam stopped by the side of a neighbouring
+            // pile meets it on the border line, and belongs to that neighbour.
+            margin_m: 0.5 * self.world.geometry().resolution_m,
+            max_range_m: self.depth.max_range_m,
+        };
+        classifier.classify(
+            &image,
+            pose,
+            floor_m,
+            view.cell_rect(ahead),
+            view.cell_center(ahead),
+        )
+    }
+}
+
+/// Paper 000 §IV-A-4's rubble classification of one cell from a D_xy frame: a least-squares
+/// plane through the points falling in the cell, its slope, roughness and height against the
+/// robot's reference floor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RubbleClassifier {
+    /// The thresholds of the classes.
+    pub params: CellViewParams,
+    /// Floor height of the robot's global frame (where it started), metres.
+    pub reference_floor_m: f64,
+    /// Points this close to the cell's border are left out (they may belong to a neighbour's
+    /// side), metres.
+    pub margin_m: f64,
+    /// The depth array's range, metres.
+    pub max_range_m: f64,
+}
+
+impl RubbleClassifier {
     /// How many beams of `image` would meet a level floor at height `floor_m` (the robot's own) inside
     /// `rect` (shrunk by `margin`) within the sensor's range.
     fn expected_floor_points(
         &self,
-        image: &usar_sim::sensors::DepthImage,
+        image: &DepthImage,
         pose: Pose2,
         rect: usar_world::Rect,
         margin: f64,
@@ -267,7 +311,7 @@ impl Perception {
         }
         let mut n = 0;
         for &pitch in &image.row_pitch_down_rad {
-            if pitch <= 0.0 || drop / pitch.sin() > self.depth.max_range_m {
+            if pitch <= 0.0 || drop / pitch.sin() > self.max_range_m {
                 continue;
             }
             let horizontal = drop / pitch.tan();
@@ -286,20 +330,17 @@ impl Perception {
         n
     }
 
-    /// Rubble classification of §IV-A-4 from one D_xy frame.
-    fn classify_ahead(
-        &mut self,
-        view: &CellView,
+    /// The class of the cell `rect` (centre `centre`) in `image`, taken at `pose` by a robot
+    /// standing on a floor at `floor_m`.
+    pub fn classify(
+        &self,
+        image: &DepthImage,
         pose: Pose2,
         floor_m: f64,
-        ahead: Cell,
+        rect: Rect,
+        centre: Point2,
     ) -> CellClass {
-        let image = read_depth(&self.depth, &self.world, pose, floor_m, &mut self.rng);
-        // Half a fine cell inside the border: a beam stopped by the side of a neighbouring pile
-        // meets it on the border line, and belongs to that neighbour.
-        let margin = 0.5 * self.world.geometry().resolution_m;
-        let rect = view.cell_rect(ahead);
-        let centre = view.cell_center(ahead);
+        let margin = self.margin_m;
         let (s, c) = pose.theta.sin_cos();
         let mut plane = LeastSquaresPlane::new();
         let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -348,7 +389,7 @@ impl Perception {
         // a level surface mean that a face (a slab, a steep pile) stopped the beams before the
         // cell's floor: the floor seen is a sliver, and the cell is non-climbable. Rubble that
         // is low enough to climb shadows part of its own cell, so it is classified by its fit.
-        let expected = self.expected_floor_points(&image, pose, rect, margin, floor_m);
+        let expected = self.expected_floor_points(image, pose, rect, margin, floor_m);
         if deviation <= p.open_max_height_m
             && f64::from(fit.points) < OCCLUDED_SHARE * expected as f64
         {

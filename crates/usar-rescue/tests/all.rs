@@ -1,3 +1,4 @@
+mod controller;
 mod exploration;
 mod rescue;
 mod travel;

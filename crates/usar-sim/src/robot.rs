@@ -62,6 +62,19 @@ impl RobotSpec {
         }
     }
 
+    /// Paper 000's robot moving cell by cell: the crawler made small enough to turn in place
+    /// inside one of the paper's 0.914 m cells with 0.15 m to spare on every side (circumscribed
+    /// radius 0.28 m): 0.45 × 0.34 m. The larger [`RobotSpec::crawler`] wedges against rubble
+    /// reaching into its cell when it turns.
+    pub fn cell_crawler() -> Self {
+        Self {
+            name: "cell-crawler".into(),
+            length_m: 0.45,
+            width_m: 0.34,
+            ..Self::crawler()
+        }
+    }
+
     /// A wheeled indoor robot (a Pioneer-class base as in paper 002's USARSim teams):
     /// 0.5 × 0.4 m, 15° ramps, 0.05 m steps, 0.5 m/s.
     pub fn wheeled() -> Self {
@@ -95,6 +108,7 @@ impl RobotSpec {
     pub fn preset(name: &str) -> Option<Self> {
         match name {
             "crawler" => Some(Self::crawler()),
+            "cell-crawler" => Some(Self::cell_crawler()),
             "wheeled" => Some(Self::wheeled()),
             "wheeled-paper-pace" => Some(Self::wheeled_paper_pace()),
             _ => None,
@@ -107,8 +121,8 @@ impl RobotSpec {
         0.5 * self.length_m.hypot(self.width_m)
     }
 
-    /// A robot named the way a user names one: a preset (`crawler`, `wheeled`,
-    /// `wheeled-paper-pace`) or the path of a robot file.
+    /// A robot named the way a user names one: a preset (`crawler`, `cell-crawler`,
+    /// `wheeled`, `wheeled-paper-pace`) or the path of a robot file.
     pub fn load(spec: &str) -> Result<Self, crate::SimError> {
         if let Some(preset) = Self::preset(spec) {
             return Ok(preset);
@@ -117,7 +131,7 @@ impl RobotSpec {
         if !path.exists() {
             return Err(crate::SimError::RobotFile {
                 path: spec.to_string(),
-                message: "not a robot preset (crawler, wheeled, wheeled-paper-pace) and no such \
+                message: "not a robot preset (crawler, cell-crawler, wheeled, wheeled-paper-pace) and no such \
                           robot file"
                     .into(),
             });

@@ -103,7 +103,7 @@ pub(crate) fn scene_and_team_factors(
             "robot",
             FactorKind::Text { choices: vec![] },
             Level::Text(robot.into()),
-            "robot model: crawler, wheeled, wheeled-paper-pace or a robot TOML file",
+            "robot model: crawler, cell-crawler, wheeled, wheeled-paper-pace or a robot TOML file",
         ),
     ]
 }
