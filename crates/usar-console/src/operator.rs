@@ -239,7 +239,9 @@ impl PacedDomain<'_> {
             f64::from(self.inner.agent.robot.heading) * std::f64::consts::FRAC_PI_2,
         ];
         r.task = task.into();
-        r.tags = self.tags_before + self.inner.agent.stats.victims_found + self.inner.agent.stats.false_tags;
+        r.tags = self.tags_before
+            + self.inner.agent.stats.victims_found
+            + self.inner.agent.stats.false_tags;
         if r.handoff
             .as_ref()
             .is_some_and(|h| h.kind == HandOffKind::Stuck)
@@ -374,7 +376,10 @@ pub(crate) fn run_rescue_robot(
         learner.learn_episode(&hierarchy, &mut paced, s0, &mut rng);
         paced.publish();
         let explored_all = paced.inner.guidance().heading.is_none();
-        start = (paced.inner.agent.robot.cell, paced.inner.agent.robot.heading);
+        start = (
+            paced.inner.agent.robot.cell,
+            paced.inner.agent.robot.heading,
+        );
         let ready = paced.ready_at_s;
         operator = paced.inner.operator;
         shared.lock_rescue().episodes += 1;
