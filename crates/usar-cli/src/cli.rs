@@ -67,12 +67,15 @@ pub enum Command {
     /// relevant area).
     #[command(subcommand)]
     Team(TeamCommand),
-    /// The whole mission in one world: paper 002's wheeled team and paper 004's crawler on one
-    /// physics, the crawler's BTM shared over the radio (`usar mission run --help`).
+    /// The whole mission in one world: paper 002's wheeled team, paper 004's crawler (its BTM
+    /// shared over the radio) and paper 000's MAXQ robot on one physics, hand-offs to one
+    /// operator (`usar mission run --help`).
     #[command(subcommand)]
     Mission(MissionCommand),
-    /// Run the main job on built-in defaults: a team explores a generated office floor with
-    /// victims; writes a report folder (map, coverage over time, victims, summary.json).
+    /// Run the main job on built-in defaults: the whole mission on a generated office floor —
+    /// four wheeled robots (S-MCDM + MRv1), a crawler sharing its BTM, a MAXQ robot searching a
+    /// zone, one operator answering hand-offs; writes a report folder (map, victims, hand-offs,
+    /// coverage over time, summary.json).
     Demo(DemoArgs),
     /// Measure the speed of the hot loops (laser scans, A*, distance fields, frontiers).
     Bench(BenchArgs),
@@ -481,6 +484,18 @@ pub struct ImageArgs {
     /// Occupancy below which a pixel is free (ROS default 0.196).
     #[arg(long, default_value_t = 0.196)]
     pub free_thresh: f64,
+}
+
+impl ImageArgs {
+    /// The command line's defaults (ROS map_server's), for a command that reads no image.
+    pub fn none() -> Self {
+        Self {
+            resolution: None,
+            negate: false,
+            occupied_thresh: 0.65,
+            free_thresh: 0.196,
+        }
+    }
 }
 
 #[derive(Debug, Args)]

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use usar_btm::build::BuildConfig;
+use usar_rescue::operator::OperatorProfile;
 
 /// The whole mission.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -19,6 +20,10 @@ pub struct MissionConfig {
     pub team: TeamPart,
     /// The crawler building a Behavioral Trace Map (`enabled = false`: none).
     pub crawler: CrawlerPart,
+    /// Paper 000's robot searching a zone of the floor (`enabled = false`: none).
+    pub rescuer: RescuerPart,
+    /// The one operator every hand-off goes to.
+    pub operator: OperatorProfile,
 }
 
 impl Default for MissionConfig {
@@ -30,6 +35,8 @@ impl Default for MissionConfig {
             robots_in_lasers: true,
             team: TeamPart::default(),
             crawler: CrawlerPart::default(),
+            rescuer: RescuerPart::default(),
+            operator: OperatorProfile::expert(),
         }
     }
 }
@@ -90,6 +97,45 @@ impl Default for CrawlerPart {
             share_period_s: 10.0,
             keep_out_narrow: false,
             build: BuildConfig::default(),
+        }
+    }
+}
+
+/// Paper 000's semi-autonomous robot: its learned MAXQ policy searches a square zone of the
+/// floor around where it is put down, cell by cell, and hands uncertain victims and being stuck
+/// to the operator.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RescuerPart {
+    /// `false`: a mission without it.
+    pub enabled: bool,
+    pub robot: String,
+    /// Side of its zone, in paper 000's 0.914 m cells.
+    pub zone_cells: u32,
+    /// A policy file (`usar maxq train`); empty: trained at the start for `train_trials`
+    /// trials on generated rubble scenes (as the console does).
+    pub policy: String,
+    pub train_trials: u32,
+    /// The Table II case of its exploration weights.
+    pub weights: String,
+    /// Most primitives it may execute.
+    pub max_primitives: u64,
+    /// `true`: it knows its true pose (paper 000's robot knows its cell, L_R — a named oracle);
+    /// `estimated`: it drives on its odometry.
+    pub localization: String,
+}
+
+impl Default for RescuerPart {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            robot: "cell-crawler".into(),
+            zone_cells: 10,
+            policy: String::new(),
+            train_trials: 300,
+            weights: "equal".into(),
+            max_primitives: 3_000,
+            localization: "true".into(),
         }
     }
 }

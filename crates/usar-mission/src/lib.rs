@@ -19,15 +19,21 @@
 //! assert!(outcome.crawler.as_ref().unwrap().nodes > 0);
 //! ```
 
+pub mod board;
 pub mod config;
 pub mod controllers;
 mod mission;
 mod outcome;
 pub mod report;
+mod rescuer;
+mod tally;
 
-pub use self::config::{CrawlerPart, MissionConfig, TeamPart};
+pub use self::config::{CrawlerPart, MissionConfig, RescuerPart, TeamPart};
 pub use self::mission::run_mission;
-pub use self::outcome::{CrawlerFigures, MissionOutcome, MissionSample, TeamFigures, VictimRow};
+pub use self::outcome::{
+    CrawlerFigures, MissionOutcome, MissionSample, OperatorFigures, RescuerFigures, TeamFigures,
+    VictimFigures, VictimRow,
+};
 
 /// The README's examples, compiled and run as doctests.
 #[doc = include_str!("../README.md")]

@@ -2,18 +2,24 @@
 //! robot, the team and the crawler placed with their own oracles), stepped (every controller
 //! decides, the evaluation follows, the world moves) and summed up.
 
+use crate::board::VictimBoard;
 use crate::controllers::{SharingCrawler, TeamWithBtm};
-use crate::outcome::{CrawlerFigures, MissionOutcome, MissionSample, TeamFigures, VictimRow};
+use crate::outcome::{CrawlerFigures, MissionOutcome, MissionSample, TeamFigures};
+use crate::rescuer::Rescuer;
 use crate::{CrawlerPart, MissionConfig, MissionError};
 use std::sync::Arc;
 use usar_btm::build::{BuildConfig, BuildError, Explorer, count_nodes};
 use usar_btm::plan::RobotLimits;
 use usar_btm::store::BtmStore;
 use usar_map::segmentation::SegmentationParams;
+use usar_rescue::controller::Question;
+use usar_rescue::desk::OperatorDesk;
+use usar_rescue::operator::{SimulatedOperator, VictimDecision};
 use usar_sim::host::{FleetId, Host, Oracles, RadioSpec};
 use usar_sim::{RobotSpec, SimConfig};
 use usar_team::setup::TeamSetup;
 use usar_team::{Radio, TeamConfig, TeamController, TeamEvaluation};
+use usar_world::cellview::{CellView, CellViewParams};
 use usar_world::{Point2, Scene};
 
 /// How often the mission's coverage and relevant area are sampled, seconds.
@@ -27,24 +33,28 @@ fn bad(field: &str, message: impl Into<String>) -> MissionError {
 }
 
 /// The crawler on the host, and the largest error of its position estimate so far.
-struct Crawler<'a> {
-    fleet: FleetId,
-    controller: SharingCrawler<'a>,
-    max_error_m: f64,
+pub(crate) struct Crawler<'a> {
+    pub(crate) fleet: FleetId,
+    pub(crate) controller: SharingCrawler<'a>,
+    pub(crate) max_error_m: f64,
 }
 
 /// A mission being run.
 pub(crate) struct Mission<'a> {
-    scene: Arc<Scene>,
-    seed: u64,
-    steps: u64,
-    sample_every: u64,
-    host: Host,
-    team_fleet: FleetId,
-    team: TeamWithBtm,
-    eval: TeamEvaluation,
-    crawler: Option<Crawler<'a>>,
-    series: Vec<MissionSample>,
+    pub(crate) scene: Arc<Scene>,
+    pub(crate) seed: u64,
+    pub(crate) steps: u64,
+    pub(crate) sample_every: u64,
+    pub(crate) host: Host,
+    pub(crate) team_fleet: FleetId,
+    pub(crate) team: TeamWithBtm,
+    pub(crate) eval: TeamEvaluation,
+    pub(crate) crawler: Option<Crawler<'a>>,
+    pub(crate) rescuer: Option<Rescuer>,
+    /// The one operator, and the base station's board of the team's victim reports.
+    pub(crate) desk: OperatorDesk,
+    pub(crate) board: VictimBoard,
+    pub(crate) series: Vec<MissionSample>,
 }
 
 /// The team's configuration from the mission file's `[team]` names.
@@ -124,10 +134,21 @@ impl<'a> Mission<'a> {
     ) -> Result<Self, MissionError> {
         // Room for every robot: a room layer for the team's evaluation, start poses for all,
         // spaced for the widest.
-        let robots = team_config.robots + usize::from(crawler.is_some());
+        let rescuer_part = config.rescuer.enabled.then_some(&config.rescuer);
+        let robots = team_config.robots
+            + usize::from(crawler.is_some())
+            + usize::from(rescuer_part.is_some());
+        let rescuer_spec = rescuer_part
+            .map(|r| RobotSpec::load(&r.robot))
+            .transpose()?;
         let widest = crawler
             .map_or(0.0, |(spec, _, _)| spec.circumscribed_radius_m())
-            .max(team_config.robot.circumscribed_radius_m());
+            .max(team_config.robot.circumscribed_radius_m())
+            .max(
+                rescuer_spec
+                    .as_ref()
+                    .map_or(0.0, RobotSpec::circumscribed_radius_m),
+            );
         let mut scene = (*scene).clone();
         usar_team::scene_prep::prepare_scene(
             &mut scene,
@@ -183,8 +204,43 @@ impl<'a> Mission<'a> {
             }
             None => None,
         };
+        // The camera's view of the floor, for the operator; the rescuer's zone is a part of its
+        // cell grid (geometry only).
+        let view = CellView::from_scene(&scene, &CellViewParams::default());
+        let rescuer = match (rescuer_part, rescuer_spec) {
+            (Some(part), Some(spec)) => {
+                let k = team_config.robots + usize::from(crawler.is_some());
+                let (zone, put_down) =
+                    crate::rescuer::zone(&view, scene.start_poses[k], part.zone_cells);
+                let oracles = Oracles {
+                    localization: match part.localization.as_str() {
+                        "true" => true,
+                        "estimated" => false,
+                        other => {
+                            return Err(bad(
+                                "rescuer.localization",
+                                format!("found `{other}`, expected true or estimated"),
+                            ));
+                        }
+                    },
+                };
+                // Put down at its cell's centre, or where the scene's start pose is when
+                // something stands there.
+                let fleet = host
+                    .add_fleet_with(&[(spec.clone(), put_down)], oracles)
+                    .or_else(|_| host.add_fleet_with(&[(spec, scene.start_poses[k])], oracles))?;
+                let (policy, trials) = crate::rescuer::policy(part, seed)?;
+                let controller = crate::rescuer::controller(part, zone, policy)?;
+                Some(Rescuer::new(fleet, controller, trials))
+            }
+            _ => None,
+        };
+        let operator = SimulatedOperator::new(config.operator.clone(), seed ^ 0x0DE5_C000);
         let dt_s = team_config.sim.dt_s;
         Ok(Self {
+            rescuer,
+            desk: OperatorDesk::new(operator, view),
+            board: VictimBoard::default(),
             eval: TeamEvaluation::new(&scene, &team_config, base),
             steps: (config.minutes * 60.0 / dt_s).round() as u64,
             sample_every: (SAMPLE_PERIOD_S / dt_s).round().max(1.0) as u64,
@@ -220,6 +276,7 @@ impl<'a> Mission<'a> {
                     .max_error_m
                     .max(estimate.position().distance(truth.position()));
             }
+            self.hand_offs();
             self.eval.update(
                 &mut self.team.team,
                 &self.host.evaluator(),
@@ -241,6 +298,43 @@ impl<'a> Mission<'a> {
         Ok(())
     }
 
+    /// The rescuer decides and asks; the team's new victim reports go on the board and to the
+    /// operator; the operator's answers due now reach the rescuer and the board.
+    fn hand_offs(&mut self) {
+        let now = self.host.time_s();
+        if let Some(r) = &mut self.rescuer {
+            self.host.decide(r.fleet, &mut r.controller);
+            let id = self.host.fleet(r.fleet)[0].0;
+            if let Some(q) = r.controller.take_question() {
+                self.desk.ask(id, now, q);
+            }
+            let truth = self.host.evaluator();
+            r.follow(now, |reading| truth.truth_of(reading));
+        }
+        let reports = self.team.team.take_reports();
+        let truth = self.host.evaluator();
+        self.eval.record_reports(&reports, &truth);
+        let team = self.host.fleet(self.team_fleet);
+        for (k, q) in self.board.post(&reports) {
+            self.desk.ask(team[k].0, now, q);
+        }
+        let rescuer_id = self.rescuer.as_ref().map(|r| self.host.fleet(r.fleet)[0].0);
+        for a in self.desk.answers(now, &truth) {
+            if Some(a.robot) == rescuer_id {
+                if let Some(r) = &mut self.rescuer {
+                    r.controller.answer(a.answer);
+                }
+            } else if let (
+                Question::Victim { source, .. },
+                usar_rescue::controller::Answer::Victim(d),
+            ) = (a.question, a.answer)
+            {
+                self.board
+                    .answer(source, d == VictimDecision::Tag, a.time_s);
+            }
+        }
+    }
+
     /// What every system did, from the evaluation's side.
     pub(crate) fn outcome(self) -> MissionOutcome {
         let truth = self.host.evaluator();
@@ -251,21 +345,7 @@ impl<'a> Mission<'a> {
             .iter()
             .map(|&id| truth.robot(id))
             .collect();
-        let victims = self
-            .scene
-            .victims
-            .iter()
-            .map(|v| {
-                let seen = eval.victims_seen().iter().find(|s| s.victim_id == v.id);
-                VictimRow {
-                    id: v.id,
-                    x_m: v.position.x,
-                    y_m: v.position.y,
-                    seen_by: seen.map(|s| s.robot),
-                    seen_at_s: seen.map(|s| s.time_s),
-                }
-            })
-            .collect();
+        let victims = self.victim_rows(&truth);
         let base_station = self.team.team.base_station();
         let team = TeamFigures {
             robots: team_robots.len(),
@@ -307,9 +387,13 @@ impl<'a> Mission<'a> {
             time_s: truth.time_s(),
             team,
             crawler,
+            rescuer: self.rescuer_figures(&truth),
+            operator: self.operator_figures(truth.time_s()),
+            victim_figures: self.victim_figures(&victims, &truth),
             robot_contacts: truth.robots().iter().map(|r| r.robot_contacts).sum(),
             radio: truth.radio(),
             victims,
+            handoffs: self.desk.timeline.clone(),
             series: self.series.clone(),
             merged_map: base_station.merged.clone(),
             team_trajectories: self
@@ -332,6 +416,11 @@ impl<'a> Mission<'a> {
                     .collect()
             }),
             keep_outs: base_station.keep_outs().to_vec(),
+            rescuer_zone: self.rescuer.as_ref().map(|r| *r.controller.zone()),
+            rescuer_trajectory: self
+                .rescuer
+                .as_ref()
+                .map_or_else(Vec::new, |r| r.trajectory.clone()),
         }
     }
 }

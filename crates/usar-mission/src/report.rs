@@ -1,6 +1,8 @@
 //! A mission's report folder: `map.png` (the team's merged map, the crawler's BTM, the
-//! keep-out zones, every robot's trajectory as it believed it, the victims), `victims.csv`,
-//! `coverage.csv` and `summary.json`, written last so that a folder with a summary is complete.
+//! keep-out zones, the rescuer's zone, every robot's trajectory as it believed it, the
+//! victims), `victims.csv` (who detected, who confirmed, when), `handoffs.csv` (the operator's
+//! timeline), `coverage.csv` and `summary.json`, written last so that a folder with a summary
+//! is complete.
 
 use crate::MissionOutcome;
 use std::path::Path;
@@ -26,10 +28,12 @@ const TEAM_RGB: [[u8; 3]; 6] = [
     [140, 86, 75],
 ];
 const CRAWLER_RGB: [u8; 3] = [255, 127, 14];
+const RESCUER_RGB: [u8; 3] = [214, 39, 40];
 
 /// The map: unknown grey, free white, occupied black; keep-out zones shaded red; the BTM's
-/// links and nodes in the crawler's orange; trajectories; victims seen (green discs) and missed
-/// (red circles).
+/// links and nodes in the crawler's orange; the rescuer's zone outlined and its path in red;
+/// trajectories; victims confirmed (green discs), detected only (yellow discs) and missed (red
+/// circles).
 pub fn render_mission_map(outcome: &MissionOutcome) -> Canvas {
     let mut canvas = usar_team::report::draw_grid(&outcome.merged_map);
     for &(a, b, r) in &outcome.keep_outs {
@@ -59,10 +63,27 @@ pub fn render_mission_map(outcome: &MissionOutcome) -> Canvas {
             canvas.draw_disc(Point2::new(n.x_m, n.y_m), 0.25, CRAWLER_RGB);
         }
     }
+    if let Some(zone) = &outcome.rescuer_zone {
+        let (w, h) = zone.extent_m();
+        let o = zone.origin;
+        canvas.draw_polyline(
+            &[
+                o,
+                Point2::new(o.x + w, o.y),
+                Point2::new(o.x + w, o.y + h),
+                Point2::new(o.x, o.y + h),
+                o,
+            ],
+            RESCUER_RGB,
+        );
+    }
+    canvas.draw_polyline(&outcome.rescuer_trajectory, RESCUER_RGB);
     for v in &outcome.victims {
         let p = Point2::new(v.x_m, v.y_m);
-        if v.seen_by.is_some() {
+        if v.confirmed_by.is_some() {
             canvas.draw_disc(p, 0.35, [0, 170, 0]);
+        } else if v.detected_by.is_some() {
+            canvas.draw_disc(p, 0.35, [230, 200, 0]);
         } else {
             canvas.draw_circle(p, 0.35, [220, 0, 0]);
         }
@@ -70,23 +91,48 @@ pub fn render_mission_map(outcome: &MissionOutcome) -> Canvas {
     canvas
 }
 
-/// Writes the report folder `dir` (created if needed) and returns the summary it wrote.
+/// Writes the report folder `dir` (created if needed) and returns the summary it wrote: the
+/// outcome, with the fields of `extra` (e.g. the wall time) added.
 pub fn write_report(
     dir: &Path,
     outcome: &MissionOutcome,
+    extra: serde_json::Value,
 ) -> Result<serde_json::Value, ReportError> {
     std::fs::create_dir_all(dir).map_err(|io| ReportError::Folder {
         path: dir.display().to_string(),
         io,
     })?;
     render_mission_map(outcome).save_png(&dir.join("map.png"))?;
-    let mut victims = String::from("id,x_m,y_m,seen_by,seen_at_s\n");
+    let time = |t: Option<f64>| t.map_or(String::new(), |t| format!("{t:.1}"));
+    let mut victims =
+        String::from("id,x_m,y_m,detected_by,detected_at_s,confirmed_by,confirmed_at_s\n");
     for v in &outcome.victims {
-        let by = v.seen_by.map_or(String::new(), |r| r.to_string());
-        let at = v.seen_at_s.map_or(String::new(), |t| format!("{t:.1}"));
-        victims.push_str(&format!("{},{:.2},{:.2},{by},{at}\n", v.id, v.x_m, v.y_m));
+        victims.push_str(&format!(
+            "{},{:.2},{:.2},{},{},{},{}\n",
+            v.id,
+            v.x_m,
+            v.y_m,
+            v.detected_by.as_deref().unwrap_or(""),
+            time(v.detected_at_s),
+            v.confirmed_by.as_deref().unwrap_or(""),
+            time(v.confirmed_at_s),
+        ));
     }
     write_atomic(&dir.join("victims.csv"), victims.as_bytes())?;
+    let mut handoffs = String::from("robot,kind,asked_s,started_s,answered_s,answer,was_victim\n");
+    for h in &outcome.handoffs {
+        handoffs.push_str(&format!(
+            "{},{},{:.1},{:.1},{:.1},{},{}\n",
+            h.robot,
+            h.kind,
+            h.asked_s,
+            h.started_s,
+            h.answered_s,
+            h.answer,
+            h.was_victim.map_or(String::new(), |v| v.to_string()),
+        ));
+    }
+    write_atomic(&dir.join("handoffs.csv"), handoffs.as_bytes())?;
     let mut coverage = String::from("time_s,coverage,relevant_area_m2\n");
     for s in &outcome.series {
         coverage.push_str(&format!(
@@ -96,8 +142,16 @@ pub fn write_report(
     }
     write_atomic(&dir.join("coverage.csv"), coverage.as_bytes())?;
     let mut summary = serde_json::to_value(outcome).expect("an outcome serialises");
-    summary["files"] =
-        serde_json::json!(["map.png", "victims.csv", "coverage.csv", "summary.json"]);
+    if let (Some(summary), serde_json::Value::Object(extra)) = (summary.as_object_mut(), extra) {
+        summary.extend(extra);
+    }
+    summary["files"] = serde_json::json!([
+        "map.png",
+        "victims.csv",
+        "handoffs.csv",
+        "coverage.csv",
+        "summary.json"
+    ]);
     let text = serde_json::to_string_pretty(&summary).expect("JSON");
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     Ok(summary)

@@ -21,8 +21,8 @@
 //! a cell the robot's map holds a possible victim in, or out of the zone, is refused like a
 //! collision (the robot stops itself).
 
-use crate::agent::{Begun, CellReading, HeatReading, Move, RescueAgent, UncertainVictim};
-use crate::domain::DomainConfig;
+use crate::agent::{Begun, CellReading, HeatReading, Move, RescueAgent};
+use crate::domain::{DomainConfig, VictimMark};
 use crate::exploration::{Direction, ExplorationWeights};
 use crate::hierarchy::{self, RescueHierarchy};
 use crate::operator::{NavigationRequest, VictimDecision};
@@ -53,7 +53,11 @@ pub enum Question {
     /// HC₂: is this a victim? The reading's number lets whoever looks at the camera image
     /// (the simulated operator: the evaluator) know what it shows.
     Victim {
-        victim: UncertainVictim<DetectionId>,
+        /// The thermal reading that made it a possible victim.
+        source: DetectionId,
+        /// p = f(h, s) and s, as the robot measured them.
+        probability: f64,
+        size_m2: f64,
         /// Where the warm region is, in the world.
         at: Point2,
     },
@@ -109,6 +113,14 @@ enum Phase {
     Done(CellOutcome),
 }
 
+/// A possible victim tagged.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Tag {
+    pub source: DetectionId,
+    pub time_s: f64,
+    pub by_operator: bool,
+}
+
 /// What the rescue robot did, as it knows it.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct RescueLog {
@@ -141,8 +153,9 @@ pub struct RescueController {
     mind: Option<(RescueAgent<DetectionId>, RubbleClassifier)>,
     motion: Option<Motion>,
     handoff: HandOff,
-    /// The reading numbers of what it tagged.
-    pub tags: Vec<DetectionId>,
+    /// What it tagged: the reading that made it a possible victim, when, and whether the
+    /// operator decided (HC₂) rather than the robot (p above the tag threshold).
+    pub tags: Vec<Tag>,
     pub log: RescueLog,
 }
 
@@ -175,6 +188,12 @@ impl RescueController {
     /// The robot's mind, once it has started.
     pub fn agent(&self) -> Option<&RescueAgent<DetectionId>> {
         self.mind.as_ref().map(|(a, _)| a)
+    }
+
+    /// The possible victims it met: the reading that made each one, and what became of it.
+    pub fn sightings(&self) -> Vec<(DetectionId, VictimMark)> {
+        self.agent()
+            .map_or_else(Vec::new, |a| a.victim_sources().collect())
     }
 
     /// The zone's cells.
@@ -453,7 +472,9 @@ impl RescueController {
         let question = match node {
             hierarchy::HC_SHARE => match agent.uncertain_victim() {
                 Some(victim) => Question::Victim {
-                    victim,
+                    source: victim.source,
+                    probability: victim.probability,
+                    size_m2: victim.size_m2,
                     at: zone.cell_center(Cell::new(victim.cell.0, victim.cell.1)),
                 },
                 None => return Delegation::Learner,
@@ -512,10 +533,13 @@ impl Controller for RescueController {
         };
         let s = agent.state();
         let (handoff, zone) = (&mut self.handoff, &self.zone);
+        let mut answered = false;
         let next = self
             .stepper
             .next(&self.policy, &self.hierarchy, &s, s.done(), |node, _| {
-                Self::delegate(agent, handoff, zone, node)
+                let d = Self::delegate(agent, handoff, zone, node);
+                answered |= matches!(d, Delegation::Child(_));
+                d
             });
         match next {
             Next::Act(a) => {
@@ -523,7 +547,11 @@ impl Controller for RescueController {
                 match agent.begin(a) {
                     Begun::Move(m) => self.begin_motion(m, io),
                     Begun::Done(r) => self.log.reward += r,
-                    Begun::Tagged(source) => self.tags.extend(source),
+                    Begun::Tagged(source) => self.tags.extend(source.map(|source| Tag {
+                        source,
+                        time_s: io.time_s(),
+                        by_operator: answered,
+                    })),
                 }
                 self.sync_log();
             }

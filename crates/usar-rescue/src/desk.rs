@@ -33,15 +33,38 @@ pub struct HandOffRecord {
     pub was_victim: Option<bool>,
 }
 
+/// The question the operator is answering.
+#[derive(Clone, Copy, Debug)]
+struct Attending {
+    robot: usize,
+    question: Question,
+    asked_s: f64,
+    started_s: f64,
+    due_s: f64,
+    answer: Answer,
+    was_victim: Option<bool>,
+}
+
+/// An answer given: to which robot, for which question.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Answered {
+    pub robot: usize,
+    pub question: Question,
+    pub answer: Answer,
+    pub time_s: f64,
+}
+
 /// See the [module documentation](self).
 pub struct OperatorDesk {
     operator: SimulatedOperator,
     view: CellView,
     queue: VecDeque<(usize, f64, Question)>,
-    /// The question being answered: robot, asked, started, answer due, the answer.
-    current: Option<(usize, f64, f64, f64, Answer, Option<bool>)>,
+    /// The question being answered.
+    current: Option<Attending>,
     /// The robot the operator drove last (its next command needs no new response).
     driving: Option<usize>,
+    /// Questions asked so far.
+    pub asked: usize,
     pub timeline: Vec<HandOffRecord>,
 }
 
@@ -54,12 +77,14 @@ impl OperatorDesk {
             queue: VecDeque::new(),
             current: None,
             driving: None,
+            asked: 0,
             timeline: Vec::new(),
         }
     }
 
     /// Robot `robot` asks `question` at `now_s`.
     pub fn ask(&mut self, robot: usize, now_s: f64, question: Question) {
+        self.asked += 1;
         self.queue.push_back((robot, now_s, question));
     }
 
@@ -69,38 +94,45 @@ impl OperatorDesk {
     }
 
     /// The answers due by `now_s`, each to its robot.
-    pub fn answers(&mut self, now_s: f64, truth: &Evaluator<'_>) -> Vec<(usize, Answer)> {
+    pub fn answers(&mut self, now_s: f64, truth: &Evaluator<'_>) -> Vec<Answered> {
         let mut out = Vec::new();
         loop {
-            if self.current.is_none() {
-                let Some((robot, asked_s, question)) = self.queue.pop_front() else {
-                    break;
-                };
-                self.current = Some(self.attend(robot, asked_s, now_s, question, truth));
-            }
-            let Some((robot, asked_s, started_s, due_s, answer, was_victim)) = self.current else {
-                break;
+            let current = match self.current {
+                Some(c) => c,
+                None => {
+                    let Some((robot, asked_s, question)) = self.queue.pop_front() else {
+                        break;
+                    };
+                    let c = self.attend(robot, asked_s, now_s, question, truth);
+                    self.current = Some(c);
+                    c
+                }
             };
-            if due_s > now_s {
+            if current.due_s > now_s {
                 break;
             }
             self.current = None;
             self.timeline.push(HandOffRecord {
-                robot,
-                kind: match answer {
+                robot: current.robot,
+                kind: match current.answer {
                     Answer::Victim(_) => "victim",
                     Answer::Drive(_) => "drive",
                 },
-                asked_s,
-                started_s,
-                answered_s: due_s,
-                answer: match answer {
+                asked_s: current.asked_s,
+                started_s: current.started_s,
+                answered_s: current.due_s,
+                answer: match current.answer {
                     Answer::Victim(d) => format!("{d:?}").to_lowercase(),
                     Answer::Drive(a) => format!("{a:?}").to_lowercase(),
                 },
-                was_victim,
+                was_victim: current.was_victim,
             });
-            out.push((robot, answer));
+            out.push(Answered {
+                robot: current.robot,
+                question: current.question,
+                answer: current.answer,
+                time_s: current.due_s,
+            });
         }
         out
     }
@@ -113,22 +145,31 @@ impl OperatorDesk {
         now_s: f64,
         question: Question,
         truth: &Evaluator<'_>,
-    ) -> (usize, f64, f64, f64, Answer, Option<bool>) {
-        match question {
-            Question::Victim { victim, .. } => {
+    ) -> Attending {
+        let (delay, answer, was_victim) = match question {
+            Question::Victim {
+                source,
+                probability,
+                size_m2,
+                at,
+            } => {
                 self.driving = None;
                 let delay = self.operator.response_delay_s();
-                let source = truth.truth_of(victim.source);
+                let source = truth.truth_of(source);
+                let cell = self.view.cell_of(at).map_or((-1, -1), |c| (c.col, c.row));
                 let request = VictimRequest {
-                    cell: victim.cell,
-                    probability: victim.probability,
-                    size_m2: victim.size_m2,
+                    cell,
+                    probability,
+                    size_m2,
                     // A reading the evaluator does not know is a heat source that is none.
                     truth: source.unwrap_or(HeatTruth::Other(u32::MAX)),
                 };
                 let answer = Answer::Victim(self.operator.identify_victim(&request));
-                let was_victim = Some(matches!(source, Some(HeatTruth::Victim(_))));
-                (robot, asked_s, now_s, now_s + delay, answer, was_victim)
+                (
+                    delay,
+                    answer,
+                    Some(matches!(source, Some(HeatTruth::Victim(_)))),
+                )
             }
             Question::Drive {
                 mut request,
@@ -141,9 +182,17 @@ impl OperatorDesk {
                 };
                 self.driving = Some(robot);
                 request.camera = neighbours_at.map(|p| self.camera(p, truth));
-                let answer = Answer::Drive(self.operator.drive(&request));
-                (robot, asked_s, now_s, now_s + delay, answer, None)
+                (delay, Answer::Drive(self.operator.drive(&request)), None)
             }
+        };
+        Attending {
+            robot,
+            question,
+            asked_s,
+            started_s: now_s,
+            due_s: now_s + delay,
+            answer,
+            was_victim,
         }
     }
 

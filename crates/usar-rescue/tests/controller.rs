@@ -29,6 +29,8 @@ fn policy() -> Arc<MaxqQ> {
 /// of its tags were real victims (by the evaluator).
 struct Run {
     log: RescueLog,
+    /// The robot's map at the end.
+    cells: Vec<usar_rescue::cell_map::MapCell>,
     visited: usize,
     handoffs: usize,
     true_tags: usize,
@@ -63,14 +65,15 @@ fn run(scene: Scene, policy: Arc<MaxqQ>, seconds: f64) -> Run {
         if let Some(q) = robot.take_question() {
             desk.ask(0, host.time_s(), q);
         }
-        for (_, answer) in desk.answers(host.time_s(), &host.evaluator()) {
-            robot.answer(answer);
+        for a in desk.answers(host.time_s(), &host.evaluator()) {
+            robot.answer(a.answer);
         }
         host.advance();
     }
     let truth = host.evaluator();
     Run {
         log: robot.log.clone(),
+        cells: robot.agent().map_or_else(Vec::new, |a| a.map.cells.clone()),
         visited: robot
             .agent()
             .map_or(0, |a| a.visited().filter(|&v| v).count()),
@@ -79,7 +82,7 @@ fn run(scene: Scene, policy: Arc<MaxqQ>, seconds: f64) -> Run {
         true_tags: robot
             .tags
             .iter()
-            .filter(|&&t| matches!(truth.truth_of(t), Some(HeatTruth::Victim(_))))
+            .filter(|t| matches!(truth.truth_of(t.source), Some(HeatTruth::Victim(_))))
             .count(),
     }
 }
@@ -98,4 +101,35 @@ fn the_learned_policy_drives_a_simulated_robot_cell_by_cell() {
     assert!(log.handoffs_victim >= 1, "{log:?}");
     assert_eq!(log.answers as usize, run.handoffs, "{log:?}");
     assert!(run.true_tags <= run.tags);
+}
+
+/// The robot decides from its sensors only: replacing the layers it cannot sense — room ids and
+/// labels, doors, the junctions and terrain features tests check against, the victims' names —
+/// with garbage changes nothing it does, down to its map.
+#[test]
+fn garbage_in_what_the_robot_cannot_sense_changes_nothing_it_does() {
+    let clean = generate_rubble(2, &RubbleParams::default());
+    let mut spoiled = clean.clone();
+    let (w, h) = spoiled.geometry().extent_m();
+    for (k, id) in spoiled.room_id.as_mut_slice().iter_mut().enumerate() {
+        *id = (k % 7) as u16;
+    }
+    spoiled.rooms.clear();
+    spoiled.doors.clear();
+    for v in &mut spoiled.victims {
+        v.id += 100;
+    }
+    spoiled.ground_truth.junctions = (0..5)
+        .map(|k| usar_world::Junction {
+            kind: usar_world::JunctionKind::Crossing,
+            position: usar_world::Point2::new(w * 0.15 * f64::from(k), h * 0.3),
+        })
+        .collect();
+    spoiled.ground_truth.features.clear();
+    let p = policy();
+    let (a, b) = (run(clean, p.clone(), 600.0), run(spoiled, p, 600.0));
+    assert!(a.log.primitives > 100);
+    assert_eq!(a.log, b.log);
+    assert_eq!(a.cells, b.cells);
+    assert_eq!((a.tags, a.true_tags), (b.tags, b.true_tags));
 }

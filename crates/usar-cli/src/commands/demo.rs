@@ -1,55 +1,41 @@
-//! `usar demo`: the main job on built-in defaults — six wheeled robots explore a generated
-//! office floor with victims, and a report folder is written.
+//! `usar demo`: the main job on built-in defaults — the whole mission in one world, as `usar
+//! mission run` runs the built-in mission: four wheeled robots explore the relevant areas of a
+//! generated office floor with S-MCDM + MRv1, a crawler builds a Behavioral Trace Map and shares
+//! it over the radio, a MAXQ robot searches a zone of the floor, and one simulated operator
+//! answers every hand-off; the report folder is written.
 
-use super::explore::run_mission;
-use super::print_json;
-use crate::cli::DemoArgs;
-use crate::failure::{CmdResult, InputContext};
-use std::sync::Arc;
+use super::mission::execute;
+use crate::cli::{DemoArgs, ImageArgs, MissionRunArgs};
+use crate::failure::CmdResult;
 use std::time::Instant;
-use usar_team::TeamConfig;
-use usar_world::generate::{SceneKind, generate};
-
-/// Robots in the demo: enough to know ≥ 95 % of the office floor within its time limit.
-const DEMO_ROBOTS: usize = 6;
+use usar_mission::MissionConfig;
 
 pub fn run(args: DemoArgs) -> CmdResult {
     let started = Instant::now();
-    let scene = Arc::new(generate(SceneKind::Office, args.seed));
+    let config = MissionConfig {
+        scene_seed: args.seed,
+        ..MissionConfig::default()
+    };
     if !args.json {
         eprintln!(
-            "demo: {} wheeled robots explore {} ({:.0} × {:.0} m, {} victims), nearest-frontier strategy",
-            DEMO_ROBOTS,
-            scene.name,
-            scene.geometry().extent_m().0,
-            scene.geometry().extent_m().1,
-            scene.victims.len()
+            "demo: the built-in mission on office floor {} — {} wheeled robots ({} + {}), a crawler building a BTM, a MAXQ robot in a {} × {} cell zone, one operator; {} simulated minutes",
+            args.seed,
+            config.team.robots,
+            config.team.strategy,
+            config.team.coordination,
+            config.rescuer.zone_cells,
+            config.rescuer.zone_cells,
+            config.minutes
         );
     }
-    let config = TeamConfig {
-        robots: DEMO_ROBOTS,
-        ..TeamConfig::default()
+    let mission = MissionRunArgs {
+        file: None,
+        seed: args.seed,
+        minutes: None,
+        out: Some(args.out),
+        btm: None,
+        image: ImageArgs::none(),
+        json: args.json,
     };
-    let outcome = run_mission(scene.clone(), config, args.seed, args.json)?;
-    let summary = usar_team::report::write_report(
-        &args.out,
-        &scene,
-        &outcome,
-        serde_json::json!({ "seed": args.seed, "wall_time_s": started.elapsed().as_secs_f64() }),
-    )
-    .input()?;
-    if args.json {
-        print_json(&summary)
-    } else {
-        println!(
-            "coverage {:.1} %, victims seen {}/{}, {:.0} simulated s in {:.1} s; report in {}",
-            outcome.coverage * 100.0,
-            outcome.victims_seen,
-            outcome.victims_total,
-            outcome.time_s,
-            started.elapsed().as_secs_f64(),
-            args.out.display()
-        );
-        Ok(())
-    }
+    execute(&config, &mission, started)
 }

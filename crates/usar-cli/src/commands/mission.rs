@@ -5,6 +5,7 @@ use crate::cli::{MissionCommand, MissionRunArgs};
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::{progress, scene_source};
 use std::sync::Arc;
+use std::time::Instant;
 use usar_btm::report::partial_path;
 use usar_btm::store::BtmStore;
 use usar_mission::{MissionConfig, MissionOutcome, run_mission};
@@ -16,6 +17,7 @@ pub fn run(cmd: MissionCommand) -> CmdResult {
 }
 
 fn run_one(args: MissionRunArgs) -> CmdResult {
+    let started = Instant::now();
     let mut config: MissionConfig = match &args.file {
         Some(path) => scene_source::read_toml(path)?,
         None => MissionConfig::default(),
@@ -23,6 +25,16 @@ fn run_one(args: MissionRunArgs) -> CmdResult {
     if let Some(m) = args.minutes {
         config.minutes = m;
     }
+    execute(&config, &args, started)
+}
+
+/// Runs `config` as `args` ask (seed, scene image, BTM file, report folder, JSON); the summary
+/// carries the wall time since `started`.
+pub(crate) fn execute(
+    config: &MissionConfig,
+    args: &MissionRunArgs,
+    started: Instant,
+) -> CmdResult {
     let scene = Arc::new(scene_source::load(
         &config.scene,
         config.scene_seed,
@@ -41,7 +53,7 @@ fn run_one(args: MissionRunArgs) -> CmdResult {
         None => None,
     };
     let bar = progress::bar((config.minutes * 60.0).round() as u64, "mission", args.json);
-    let result = run_mission(scene, &config, args.seed, store.as_ref(), |t| {
+    let result = run_mission(scene, config, args.seed, store.as_ref(), |t| {
         bar.set_position(t.round() as u64)
     });
     drop(store);
@@ -58,11 +70,17 @@ fn run_one(args: MissionRunArgs) -> CmdResult {
         std::fs::rename(partial, out)?;
     }
     bar.finish_and_clear();
-    if let Some(dir) = &args.out {
-        usar_mission::report::write_report(dir, &outcome)?;
-    }
+    let wall = serde_json::json!({ "wall_time_s": started.elapsed().as_secs_f64() });
+    let summary = match &args.out {
+        Some(dir) => usar_mission::report::write_report(dir, &outcome, wall)?,
+        None => {
+            let mut s = serde_json::to_value(&outcome)?;
+            s["wall_time_s"] = wall["wall_time_s"].clone();
+            s
+        }
+    };
     if args.json {
-        return print_json(&outcome);
+        return print_json(&summary);
     }
     print_text(&outcome);
     if let Some(dir) = &args.out {
@@ -109,6 +127,37 @@ fn print_text(o: &MissionOutcome) {
             }
         );
     }
+    if let Some(r) = &o.rescuer {
+        println!(
+            "rescuer (MAXQ, policy of {} trials): {} of {} zone cells visited, {} primitives, {} possible victims ({} undecided), {} tagged ({} real), hand-offs {} victim / {} stuck, {:.0} s waiting, {} collisions{}",
+            r.policy_trials,
+            r.cells_visited,
+            r.zone_cells,
+            r.primitives,
+            r.possible_victims,
+            r.pending,
+            r.tags,
+            r.true_tags,
+            r.handoffs_victim,
+            r.handoffs_stuck,
+            r.waiting_s,
+            r.collisions,
+            if r.finished { ", search ended" } else { "" }
+        );
+    }
+    let (op, v) = (&o.operator, &o.victim_figures);
+    println!(
+        "operator: {} hand-offs asked, {} answered, wait {:.1} s mean / {:.1} s longest, busy {:.0} %",
+        op.asked,
+        op.answered,
+        op.mean_wait_s,
+        op.max_wait_s,
+        op.busy_fraction * 100.0
+    );
+    println!(
+        "victims: {} detected, {} confirmed, {} missed of {}; {} false confirmations",
+        v.detected, v.confirmed, v.missed, v.total, v.false_confirmations
+    );
     println!(
         "robot-robot contacts {}, radio: {} sent, {} delivered, {} lost",
         o.robot_contacts, o.radio.sent, o.radio.delivered, o.radio.lost

@@ -52,22 +52,14 @@ impl<T: HeatSource> RescueAgent<T> {
     pub fn possible_victims(
         &self,
     ) -> impl Iterator<Item = ((i32, i32), VictimMark, Option<f64>)> + '_ {
-        self.victims.iter().map(|v| {
-            let mark = match v.status {
-                Status::Tagged => VictimMark::Tagged,
-                Status::Rejected => VictimMark::Dismissed,
-                _ => VictimMark::Pending,
-            };
-            (v.cell, mark, v.probability)
-        })
-    }
-
-    /// The possible victims tagged so far, by source.
-    pub fn tagged(&self) -> impl Iterator<Item = T> + '_ {
         self.victims
             .iter()
-            .filter(|v| v.status == Status::Tagged)
-            .map(|v| v.source)
+            .map(|v| (v.cell, mark(v.status), v.probability))
+    }
+
+    /// The possible victims met so far, by source, and what became of each.
+    pub fn victim_sources(&self) -> impl Iterator<Item = (T, VictimMark)> + '_ {
+        self.victims.iter().map(|v| (v.source, mark(v.status)))
     }
 
     /// Whether the robot is stuck (its navigation is handed to the operator).
@@ -83,5 +75,14 @@ impl<T: HeatSource> RescueAgent<T> {
     /// Cells the robot has visited (row-major).
     pub fn visited(&self) -> impl Iterator<Item = bool> + '_ {
         self.map.cells.iter().map(|c| c.is_visited())
+    }
+}
+
+/// What a status shows on a display.
+fn mark(status: Status) -> VictimMark {
+    match status {
+        Status::Tagged => VictimMark::Tagged,
+        Status::Rejected => VictimMark::Dismissed,
+        _ => VictimMark::Pending,
     }
 }

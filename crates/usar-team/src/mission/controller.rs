@@ -74,6 +74,10 @@ pub struct VictimReport {
     /// The team's robot that saw it.
     pub robot: usize,
     pub time_s: f64,
+    /// Where the robot places it (its pose as it believes it, the reading's bearing and range),
+    /// and the warm region's size.
+    pub at: Point2,
+    pub size_m2: f64,
 }
 
 /// A target the team gave a robot at an auction: the evaluator counts assignments per true
@@ -404,6 +408,11 @@ impl TeamController {
                         reading: d.id,
                         robot: k,
                         time_s: self.now,
+                        at: a
+                            .pose
+                            .position()
+                            .offset(a.pose.theta + d.bearing_rad, d.range_m),
+                        size_m2: d.size_m2,
                     });
                 }
             }

@@ -79,7 +79,14 @@ impl TeamEvaluation {
         {
             *worst = worst.max(a.pose.position().distance(truth.robot(id).pose.position()));
         }
-        for report in team.take_reports() {
+        let reports = team.take_reports();
+        self.record_reports(&reports, truth);
+    }
+
+    /// Scores victim reports the caller took from the team ([`TeamController::take_reports`])
+    /// before [`TeamEvaluation::update`] could.
+    pub fn record_reports(&mut self, reports: &[VictimReport], truth: &Evaluator<'_>) {
+        for report in reports {
             if let Some(HeatTruth::Victim(id)) = truth.truth_of(report.reading)
                 && !self.victims_seen.iter().any(|v| v.victim_id == id)
             {

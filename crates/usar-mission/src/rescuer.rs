@@ -1,0 +1,147 @@
+//! Paper 000's robot in the mission: its policy (a file, or trained at the start), its zone (a
+//! square of the scene's cell grid around where it is put down), and what it did.
+
+use crate::{MissionError, RescuerPart};
+use std::sync::Arc;
+use usar_maxq::MaxqQ;
+use usar_rescue::controller::RescueController;
+use usar_rescue::exploration::ExplorationWeights;
+use usar_rescue::policy::PolicyFile;
+use usar_rescue::training::{TrainConfig, train};
+use usar_rescue::{DomainConfig, VictimMark};
+use usar_sim::host::FleetId;
+use usar_sim::sensors::{DetectionId, HeatTruth};
+use usar_world::cellview::CellView;
+use usar_world::{Cell, GridGeometry, Point2, Pose2};
+
+/// The rescuer on the host, and what the evaluation keeps of it.
+pub(crate) struct Rescuer {
+    pub fleet: FleetId,
+    pub controller: RescueController,
+    /// The policy's training trials (0: read from a file).
+    pub trained_trials: u32,
+    /// Its possible victims already scored, and the true victims among them with when they
+    /// were first seen.
+    pub sightings_seen: usize,
+    pub seen: Vec<(u32, f64)>,
+    /// The cell centres it believed it stood on, in order.
+    pub trajectory: Vec<Point2>,
+}
+
+fn bad(field: &str, message: String) -> MissionError {
+    MissionError::Config {
+        field: format!("rescuer.{field}"),
+        message,
+    }
+}
+
+/// The rescuer's learned policy: read from `part.policy`, or trained for `part.train_trials`
+/// trials with `seed`. Returns it and the trials trained.
+pub(crate) fn policy(part: &RescuerPart, seed: u64) -> Result<(Arc<MaxqQ>, u32), MissionError> {
+    if !part.policy.is_empty() {
+        let file = PolicyFile::load(std::path::Path::new(&part.policy))
+            .map_err(|e| bad("policy", e.to_string()))?;
+        return Ok((Arc::new(file.learner), 0));
+    }
+    usar_rescue::training::check_trials(part.train_trials)
+        .map_err(|e| bad("train_trials", e.problem()))?;
+    let config = TrainConfig {
+        seed,
+        trials: part.train_trials,
+        flat: false,
+        weights: weights(part)?,
+        ..TrainConfig::default()
+    };
+    Ok((Arc::new(train(&config, |_| {}).0), part.train_trials))
+}
+
+/// The Table II case named by `part.weights`.
+pub(crate) fn weights(part: &RescuerPart) -> Result<ExplorationWeights, MissionError> {
+    ExplorationWeights::named(&part.weights).ok_or_else(|| {
+        bad(
+            "weights",
+            format!("found `{}`, expected a Table II case name", part.weights),
+        )
+    })
+}
+
+/// The zone: `cells` × `cells` of the scene's cell grid `view` centred on `start`'s cell
+/// (clipped to the floor), and the pose the robot is put down at — its cell's centre, facing
+/// the nearest quarter heading.
+pub(crate) fn zone(view: &CellView, start: Pose2, cells: u32) -> (GridGeometry, Pose2) {
+    let g = &view.geometry;
+    let at = g.world_to_cell(start.position());
+    let half = i64::from(cells / 2);
+    let clamp = |v: i64, len: u32| v.clamp(0, i64::from(len.saturating_sub(cells)).max(0));
+    let c0 = clamp(i64::from(at.col) - half, g.width);
+    let r0 = clamp(i64::from(at.row) - half, g.height);
+    let (w, h) = (cells.min(g.width), cells.min(g.height));
+    let origin = Point2::new(
+        g.origin.x + c0 as f64 * g.resolution_m,
+        g.origin.y + r0 as f64 * g.resolution_m,
+    );
+    let zone = GridGeometry::new(w, h, g.resolution_m, origin);
+    let centre = g.cell_center(Cell::new(at.col, at.row));
+    let quarter = (start.theta / std::f64::consts::FRAC_PI_2).round();
+    (
+        zone,
+        Pose2::new(centre.x, centre.y, quarter * std::f64::consts::FRAC_PI_2),
+    )
+}
+
+impl Rescuer {
+    pub(crate) fn new(fleet: FleetId, controller: RescueController, trained_trials: u32) -> Self {
+        Self {
+            fleet,
+            controller,
+            trained_trials,
+            sightings_seen: 0,
+            seen: Vec::new(),
+            trajectory: Vec::new(),
+        }
+    }
+
+    /// Scores the possible victims it met since the last call (`truth` resolves their
+    /// readings) and extends its believed trajectory.
+    pub(crate) fn follow(&mut self, now_s: f64, truth: impl Fn(DetectionId) -> Option<HeatTruth>) {
+        let sightings = self.controller.sightings();
+        for &(source, _) in &sightings[self.sightings_seen..] {
+            if let Some(HeatTruth::Victim(id)) = truth(source)
+                && !self.seen.iter().any(|&(v, _)| v == id)
+            {
+                self.seen.push((id, now_s));
+            }
+        }
+        self.sightings_seen = sightings.len();
+        if let Some(agent) = self.controller.agent() {
+            let p = self.controller.zone().cell_center(agent.robot.cell);
+            if self.trajectory.last() != Some(&p) {
+                self.trajectory.push(p);
+            }
+        }
+    }
+
+    /// Its possible victims still undecided.
+    pub(crate) fn pending(&self) -> usize {
+        self.controller
+            .sightings()
+            .iter()
+            .filter(|(_, m)| *m == VictimMark::Pending)
+            .count()
+    }
+}
+
+/// The controller for `part` on `zone`.
+pub(crate) fn controller(
+    part: &RescuerPart,
+    zone: GridGeometry,
+    policy: Arc<MaxqQ>,
+) -> Result<RescueController, MissionError> {
+    Ok(RescueController::new(
+        zone,
+        policy,
+        weights(part)?,
+        DomainConfig::default(),
+        part.max_primitives,
+    ))
+}
