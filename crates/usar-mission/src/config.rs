@@ -110,8 +110,15 @@ pub struct RescuerPart {
     /// `false`: a mission without it.
     pub enabled: bool,
     pub robot: String,
+    /// Where its zone is: `largest-room` (centred on the floor's largest room that is not a
+    /// corridor) or `start` (around the start pose the scene gives it).
+    pub zone: String,
     /// Side of its zone, in paper 000's 0.914 m cells.
     pub zone_cells: u32,
+    /// Lay a rubble arena generated as paper 000's (piles, ramps, drops, buried victims) onto
+    /// the free floor of the room its zone is in (`largest-room` only): the collapsed part of the
+    /// building.
+    pub rubble: bool,
     /// A policy file (`usar maxq train`); empty: trained at the start for `train_trials`
     /// trials on generated rubble scenes (as the console does).
     pub policy: String,
@@ -130,7 +137,9 @@ impl Default for RescuerPart {
         Self {
             enabled: true,
             robot: "cell-crawler".into(),
+            zone: "largest-room".into(),
             zone_cells: 10,
+            rubble: true,
             policy: String::new(),
             train_trials: 300,
             weights: "equal".into(),

@@ -162,6 +162,16 @@ impl<'a> Mission<'a> {
                 requested: robots,
             });
         }
+        // The rescuer's zone (with its rubble, laid now: the world every robot meets).
+        let rescuer_k = team_config.robots + usize::from(crawler.is_some());
+        let placed = match rescuer_part {
+            Some(part) => {
+                let view = CellView::from_scene(&scene, &CellViewParams::default());
+                let start = scene.start_poses[rescuer_k];
+                Some(crate::rescuer::place(&mut scene, &view, part, start, seed)?)
+            }
+            None => None,
+        };
         let scene = Arc::new(scene);
         let starts = scene.start_poses[..team_config.robots].to_vec();
         let base = starts[0].position();
@@ -207,11 +217,9 @@ impl<'a> Mission<'a> {
         // The camera's view of the floor, for the operator; the rescuer's zone is a part of its
         // cell grid (geometry only).
         let view = CellView::from_scene(&scene, &CellViewParams::default());
-        let rescuer = match (rescuer_part, rescuer_spec) {
-            (Some(part), Some(spec)) => {
-                let k = team_config.robots + usize::from(crawler.is_some());
-                let (zone, put_down) =
-                    crate::rescuer::zone(&view, scene.start_poses[k], part.zone_cells);
+        let rescuer = match (rescuer_part, rescuer_spec, placed) {
+            (Some(part), Some(spec), Some((zone, put_down))) => {
+                let k = rescuer_k;
                 let oracles = Oracles {
                     localization: match part.localization.as_str() {
                         "true" => true,

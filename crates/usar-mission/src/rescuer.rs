@@ -12,7 +12,8 @@ use usar_rescue::{DomainConfig, VictimMark};
 use usar_sim::host::FleetId;
 use usar_sim::sensors::{DetectionId, HeatTruth};
 use usar_world::cellview::CellView;
-use usar_world::{Cell, GridGeometry, Point2, Pose2};
+use usar_world::generate::lay_rubble;
+use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomId, RoomLabel, Scene};
 
 /// The rescuer on the host, and what the evaluation keeps of it.
 pub(crate) struct Rescuer {
@@ -87,6 +88,72 @@ pub(crate) fn zone(view: &CellView, start: Pose2, cells: u32) -> (GridGeometry, 
         zone,
         Pose2::new(centre.x, centre.y, quarter * std::f64::consts::FRAC_PI_2),
     )
+}
+
+/// The largest room of `scene` that is not a corridor, and its cells' centroid.
+fn largest_room(scene: &Scene) -> Option<(RoomId, Point2)> {
+    let g = scene.geometry();
+    let mut cells = vec![(0usize, 0.0, 0.0); scene.rooms.len() + 1];
+    for (i, &id) in scene.room_id.as_slice().iter().enumerate() {
+        if let Some(e) = cells.get_mut(usize::from(id)) {
+            let p = g.cell_center(g.cell_of_index(i));
+            *e = (e.0 + 1, e.1 + p.x, e.2 + p.y);
+        }
+    }
+    scene
+        .rooms
+        .iter()
+        .filter(|r| r.label != RoomLabel::Corridor)
+        .filter_map(|r| {
+            let &(n, x, y) = cells.get(usize::from(r.id))?;
+            (n > 0).then(|| (n, r.id, Point2::new(x / n as f64, y / n as f64)))
+        })
+        .max_by_key(|&(n, id, _)| (n, std::cmp::Reverse(id)))
+        .map(|(_, id, c)| (id, c))
+}
+
+/// The rescuer's zone on `scene` (cells of the scene's cell grid `view`) and where it is put
+/// down, as `part` says; with `rubble`, the zone's room gets its rubble arena (generated from
+/// `seed`) first. `start` is the scene's start pose for it.
+pub(crate) fn place(
+    scene: &mut Scene,
+    view: &CellView,
+    part: &RescuerPart,
+    start: Pose2,
+    seed: u64,
+) -> Result<(GridGeometry, Pose2), MissionError> {
+    match part.zone.as_str() {
+        "start" => Ok(zone(view, start, part.zone_cells)),
+        "largest-room" => {
+            let Some((room, centre)) = largest_room(scene) else {
+                return Err(bad(
+                    "zone",
+                    "found `largest-room`, but the floor has no room that is not a corridor".into(),
+                ));
+            };
+            let (zone, put_down) = zone(view, Pose2::new(centre.x, centre.y, 0.0), part.zone_cells);
+            if !part.rubble {
+                return Ok((zone, put_down));
+            }
+            let g = *scene.geometry();
+            let allowed: Vec<bool> = (0..g.len())
+                .map(|i| scene.room_id.as_slice()[i] == room && scene.obstacle.as_slice()[i] == 0)
+                .collect();
+            let laid = lay_rubble(
+                scene,
+                zone.origin,
+                (zone.width, zone.height),
+                zone.resolution_m,
+                seed ^ 0x2B_B1E,
+                |c| allowed[g.index(c)],
+            );
+            Ok((zone, laid.start.unwrap_or(put_down)))
+        }
+        other => Err(bad(
+            "zone",
+            format!("found `{other}`, expected largest-room or start"),
+        )),
+    }
 }
 
 impl Rescuer {

@@ -1,1 +1,2 @@
 mod mission;
+mod rescuer;

@@ -35,6 +35,8 @@ fn the_slopes_and_stairs_the_crawler_records_are_closed_to_the_wheeled_robots() 
         robots = 2
         robot = "wheeled"
         strategy = "nearest"
+        [rescuer]
+        enabled = false
         "#,
     )
     .unwrap();

@@ -17,7 +17,9 @@
 //! heading (B in reverse); a contact (the bumper) makes it a collision, no arrival within
 //! [`MOVE_TIMEOUT_FACTOR`] times the nominal time a slip; after either the robot drives back to
 //! the centre of its cell; either way it then turns to its cell heading again. A rotation turns
-//! in place to the next quarter heading (a collision if its body is stopped before). Driving into
+//! in place to the next quarter heading; one that does not get there in time did not take
+//! effect (a slip, as paper 000 calls commands that do not: two in a row and the robot is
+//! stuck), and the robot turns back. Driving into
 //! a cell the robot's map holds a possible victim in, or out of the zone, is refused like a
 //! collision (the robot stops itself).
 
@@ -96,6 +98,8 @@ struct Motion {
     from: Point2,
     goal: Point2,
     goal_theta: f64,
+    /// The cell heading it started with.
+    from_theta: f64,
     /// When the phase started.
     started_s: f64,
     phase: Phase,
@@ -348,6 +352,7 @@ impl RescueController {
             from,
             goal,
             goal_theta,
+            from_theta: theta,
             started_s: io.time_s(),
             phase: Phase::Going,
         });
@@ -417,14 +422,18 @@ impl RescueController {
         );
         // The phase's end, if it ended: the next phase, or the primitive's outcome.
         let next = match motion.phase {
-            Phase::Going if rotation => (heading_err.abs() < ALIGNED_RAD || timed_out).then(|| {
-                let turned = heading_err.abs() < ALIGNED_RAD || !io.contact(0);
-                Phase::Done(if turned {
-                    CellOutcome::Rotated
+            Phase::Going if rotation => {
+                if heading_err.abs() < ALIGNED_RAD {
+                    Some(Phase::Done(CellOutcome::Rotated))
+                } else if timed_out {
+                    // A turn its body cannot make did not take effect, like a slip: back to
+                    // where it faced before.
+                    motion.goal_theta = motion.from_theta;
+                    Some(Phase::Aligning(CellOutcome::Slipped))
                 } else {
-                    CellOutcome::Collided
-                })
-            }),
+                    None
+                }
+            }
             Phase::Going if pose.position().distance(motion.goal) < ARRIVED_M => {
                 Some(Phase::Aligning(CellOutcome::Moved))
             }

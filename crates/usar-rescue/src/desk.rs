@@ -8,9 +8,11 @@
 //! (through the host's [`Evaluator`] and the scene's [`CellView`]). Robots never see it.
 
 use crate::controller::{Answer, Question};
-use crate::operator::{HandOff, SimulatedOperator, VictimRequest};
+use crate::exploration::Direction;
+use crate::operator::{HandOff, NavigationRequest, SimulatedOperator, VictimRequest};
 use serde::Serialize;
 use std::collections::VecDeque;
+use usar_sim::CellAction;
 use usar_sim::host::Evaluator;
 use usar_sim::sensors::HeatTruth;
 use usar_world::Point2;
@@ -45,6 +47,15 @@ struct Attending {
     was_victim: Option<bool>,
 }
 
+/// The commands given to `robot` from one cell and heading that left it there.
+#[derive(Clone, Debug)]
+struct Tried {
+    robot: usize,
+    cell: (i32, i32),
+    heading: Direction,
+    commands: Vec<CellAction>,
+}
+
 /// An answer given: to which robot, for which question.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Answered {
@@ -65,6 +76,8 @@ pub struct OperatorDesk {
     driving: Option<usize>,
     /// Questions asked so far.
     pub asked: usize,
+    /// Per robot driven: where it was asked from and the commands given there.
+    tried: Vec<Tried>,
     pub timeline: Vec<HandOffRecord>,
 }
 
@@ -78,6 +91,7 @@ impl OperatorDesk {
             current: None,
             driving: None,
             asked: 0,
+            tried: Vec::new(),
             timeline: Vec::new(),
         }
     }
@@ -182,7 +196,7 @@ impl OperatorDesk {
                 };
                 self.driving = Some(robot);
                 request.camera = neighbours_at.map(|p| self.camera(p, truth));
-                (delay, Answer::Drive(self.operator.drive(&request)), None)
+                (delay, Answer::Drive(self.drive(robot, &request)), None)
             }
         };
         Attending {
@@ -194,6 +208,46 @@ impl OperatorDesk {
             answer,
             was_victim,
         }
+    }
+
+    /// The operator's command for `robot`. A person does not repeat a command that left the
+    /// robot where it was: asked again from the same cell and heading, the operator gives one
+    /// not tried there yet (reverse first, then the turns, then forward), as long as one is
+    /// left.
+    fn drive(&mut self, robot: usize, request: &NavigationRequest) -> CellAction {
+        let wanted = self.operator.drive(request);
+        let here = Tried {
+            robot,
+            cell: request.cell,
+            heading: request.heading,
+            commands: Vec::new(),
+        };
+        let k = match self.tried.iter().position(|t| t.robot == robot) {
+            Some(k) => k,
+            None => {
+                self.tried.push(here.clone());
+                self.tried.len() - 1
+            }
+        };
+        let entry = &mut self.tried[k];
+        if (entry.cell, entry.heading) != (request.cell, request.heading) {
+            *entry = here;
+        }
+        let command = if entry.commands.contains(&wanted) {
+            [
+                CellAction::Backward,
+                CellAction::RotateLeft,
+                CellAction::RotateRight,
+                CellAction::Forward,
+            ]
+            .into_iter()
+            .find(|a| !entry.commands.contains(a))
+            .unwrap_or(wanted)
+        } else {
+            wanted
+        };
+        entry.commands.push(command);
+        command
     }
 
     /// What a camera shows of the cell around `p`: its terrain, and whether a victim lies there.

@@ -14,7 +14,9 @@ pub use self::building::{
     AreaRange, BuildingParams, LabelShares, LengthRange, generate_mall, generate_office,
 };
 pub use self::course::{CourseParams, generate_course};
-pub use self::rubble::{ClassShares, RubbleParams, RubbleStyle, RubbleTerrain, generate_rubble};
+pub use self::rubble::{
+    ClassShares, RubbleParams, RubbleStyle, RubbleTerrain, RubbleZone, generate_rubble, lay_rubble,
+};
 
 use crate::scene::Scene;
 

@@ -25,8 +25,10 @@ mod layout;
 mod paint;
 mod placement;
 mod style;
+mod zone;
 
 pub use self::style::{ClassShares, RubbleStyle};
+pub use self::zone::{RubbleZone, lay_rubble};
 
 use crate::cellview::PAPER_CELL_AREA_M2;
 use crate::error::{Result, WorldError};
