@@ -164,13 +164,15 @@ impl<'a> Mission<'a> {
         }
         // The rescuer's zone (with its rubble, laid now: the world every robot meets).
         let rescuer_k = team_config.robots + usize::from(crawler.is_some());
-        let placed = match rescuer_part {
-            Some(part) => {
+        let placed = match (rescuer_part, &rescuer_spec) {
+            (Some(part), Some(spec)) => {
                 let view = CellView::from_scene(&scene, &CellViewParams::default());
                 let start = scene.start_poses[rescuer_k];
-                Some(crate::rescuer::place(&mut scene, &view, part, start, seed)?)
+                Some(crate::rescuer::place(
+                    &mut scene, &view, part, spec, start, seed,
+                )?)
             }
-            None => None,
+            _ => None,
         };
         let scene = Arc::new(scene);
         let starts = scene.start_poses[..team_config.robots].to_vec();

@@ -9,9 +9,10 @@ use usar_rescue::exploration::ExplorationWeights;
 use usar_rescue::policy::PolicyFile;
 use usar_rescue::training::{TrainConfig, train};
 use usar_rescue::{DomainConfig, VictimMark};
+use usar_sim::RobotSpec;
 use usar_sim::host::FleetId;
 use usar_sim::sensors::{DetectionId, HeatTruth};
-use usar_world::cellview::CellView;
+use usar_world::cellview::{CellView, CellViewParams};
 use usar_world::generate::lay_rubble;
 use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomId, RoomLabel, Scene};
 
@@ -119,6 +120,7 @@ pub(crate) fn place(
     scene: &mut Scene,
     view: &CellView,
     part: &RescuerPart,
+    spec: &RobotSpec,
     start: Pose2,
     seed: u64,
 ) -> Result<(GridGeometry, Pose2), MissionError> {
@@ -135,11 +137,17 @@ pub(crate) fn place(
             if !part.rubble {
                 return Ok((zone, put_down));
             }
+            // Piles and ramps are painted on a tenth of a cell (as in paper 000's arenas); a
+            // coarser floor is refined first, or its grid would square them into walls.
+            let factor = (scene.geometry().resolution_m / (zone.resolution_m / 10.0)).round();
+            if factor > 1.0 {
+                *scene = scene.refined(factor as u32);
+            }
             let g = *scene.geometry();
             let allowed: Vec<bool> = (0..g.len())
                 .map(|i| scene.room_id.as_slice()[i] == room && scene.obstacle.as_slice()[i] == 0)
                 .collect();
-            let laid = lay_rubble(
+            lay_rubble(
                 scene,
                 zone.origin,
                 (zone.width, zone.height),
@@ -147,13 +155,101 @@ pub(crate) fn place(
                 seed ^ 0x2B_B1E,
                 |c| allowed[g.index(c)],
             );
-            Ok((zone, laid.start.unwrap_or(put_down)))
+            let view = CellView::from_scene(scene, &CellViewParams::default());
+            let chosen = put_down_in(&view, scene, &zone, spec);
+            Ok((zone, chosen.unwrap_or(put_down)))
         }
         other => Err(bad(
             "zone",
             format!("found `{other}`, expected largest-room or start"),
         )),
     }
+}
+
+/// Where the rescue team puts the robot down in its zone, looking at the scene as people on
+/// site do: on open floor where it can turn (no fine cell its body could not stand on within
+/// its circumscribed radius of the cell's centre), in the largest part of the zone a climbing
+/// robot can reach from there (nearest the zone's centre among equals), facing east. The robot
+/// is told nothing of it.
+fn put_down_in(
+    view: &CellView,
+    scene: &Scene,
+    zone: &GridGeometry,
+    spec: &RobotSpec,
+) -> Option<Pose2> {
+    let g = *scene.geometry();
+    let blocked = usar_sim::compute_blocked(scene, spec);
+    let radius_m = spec.circumscribed_radius_m();
+    let turns_freely = |c: Cell| {
+        let p = zone.cell_center(c);
+        let (lo, hi) = (
+            g.world_to_cell(Point2::new(p.x - radius_m, p.y - radius_m)),
+            g.world_to_cell(Point2::new(p.x + radius_m, p.y + radius_m)),
+        );
+        (lo.row..=hi.row).all(|row| {
+            (lo.col..=hi.col).all(|col| {
+                let f = Cell::new(col, row);
+                g.cell_center(f).distance(p) > radius_m || blocked.get(f) == Some(&false)
+            })
+        })
+    };
+    let (w, h) = (zone.width as i32, zone.height as i32);
+    let in_view = |c: Cell| view.cell_of(zone.cell_center(c));
+    let victim_at: Vec<Cell> = scene
+        .victims
+        .iter()
+        .filter_map(|v| view.cell_of(v.position))
+        .collect();
+    let passable = |c: Cell| {
+        in_view(c).is_some_and(|v| {
+            view.terrain_class(v).is_passable_terrain(true) && !victim_at.contains(&v)
+        })
+    };
+    let mut component = vec![usize::MAX; (w * h) as usize];
+    let mut sizes = Vec::new();
+    for start in (0..w * h).map(|i| Cell::new(i % w, i / w)) {
+        if component[(start.row * w + start.col) as usize] != usize::MAX || !passable(start) {
+            continue;
+        }
+        let id = sizes.len();
+        let mut stack = vec![start];
+        component[(start.row * w + start.col) as usize] = id;
+        let mut size = 0;
+        while let Some(c) = stack.pop() {
+            size += 1;
+            for (dc, dr) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+                let n = Cell::new(c.col + dc, c.row + dr);
+                if n.col >= 0 && n.row >= 0 && n.col < w && n.row < h {
+                    let k = (n.row * w + n.col) as usize;
+                    if component[k] == usize::MAX && passable(n) {
+                        component[k] = id;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    let centre = Point2::new(f64::from(w) / 2.0, f64::from(h) / 2.0);
+    (0..w * h)
+        .map(|i| Cell::new(i % w, i / w))
+        .filter(|&c| {
+            component[(c.row * w + c.col) as usize] != usize::MAX
+                && in_view(c)
+                    .is_some_and(|v| view.terrain_class(v) == usar_world::cellview::CellClass::Open)
+                && turns_freely(c)
+        })
+        .min_by(|&a, &b| {
+            let size = |c: Cell| sizes[component[(c.row * w + c.col) as usize]];
+            let off = |c: Cell| {
+                Point2::new(f64::from(c.col) + 0.5, f64::from(c.row) + 0.5).distance(centre)
+            };
+            size(b).cmp(&size(a)).then(off(a).total_cmp(&off(b)))
+        })
+        .map(|c| {
+            let p = zone.cell_center(c);
+            Pose2::new(p.x, p.y, 0.0)
+        })
 }
 
 impl Rescuer {

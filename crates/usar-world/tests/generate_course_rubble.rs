@@ -698,3 +698,55 @@ fn course_at_5_cm_resolution_keeps_its_geometry() {
             .all(|j| !scene.is_obstacle(scene.geometry().world_to_cell(j.position)))
     );
 }
+
+#[test]
+fn a_refined_scene_keeps_every_cell_under_its_finer_cells() {
+    let scene = usar_world::generate::generate(usar_world::generate::SceneKind::Office, 2);
+    let fine = scene.refined(2);
+    let (g, f) = (*scene.geometry(), *fine.geometry());
+    assert_eq!((f.width, f.height), (g.width * 2, g.height * 2));
+    assert_eq!(f.extent_m(), g.extent_m());
+    for i in (0..f.len()).step_by(97) {
+        let p = f.cell_center(f.cell_of_index(i));
+        let c = g.world_to_cell(p);
+        assert_eq!(fine.obstacle.as_slice()[i], scene.obstacle[c]);
+        assert_eq!(fine.room_id.as_slice()[i], scene.room_id[c]);
+        assert_eq!(fine.floor_height_m.as_slice()[i], scene.floor_height_m[c]);
+    }
+    assert_eq!(fine.victims, scene.victims);
+}
+
+#[test]
+fn a_rubble_zone_is_laid_only_where_allowed_and_brings_its_victims() {
+    use usar_world::generate::lay_rubble;
+    let mut scene =
+        usar_world::generate::generate(usar_world::generate::SceneKind::Office, 2).refined(2);
+    let before = scene.clone();
+    let g = *scene.geometry();
+    let origin = usar_world::Point2::new(10.0, 10.0);
+    // Only the left half of the 8 × 8 cell arena is allowed.
+    let split_x = origin.x + 4.0 * 0.9165;
+    let zone = lay_rubble(&mut scene, origin, (8, 8), 0.9165, 7, |c| {
+        g.cell_center(c).x < split_x
+    });
+    let mut changed = 0;
+    for i in 0..g.len() {
+        let c = g.cell_of_index(i);
+        let differs = scene.floor_height_m[c] != before.floor_height_m[c]
+            || scene.obstacle[c] != before.obstacle[c];
+        if differs {
+            changed += 1;
+            let p = g.cell_center(c);
+            assert!(p.x < split_x && p.x >= origin.x && p.y >= origin.y, "{p:?}");
+        }
+    }
+    assert!(changed > 100, "{changed} cells changed");
+    assert_eq!(
+        scene.victims.len(),
+        before.victims.len() + zone.victims.len()
+    );
+    for id in &zone.victims {
+        let v = scene.victims.iter().find(|v| v.id == *id).unwrap();
+        assert!(v.position.x < split_x, "{v:?}");
+    }
+}

@@ -3,6 +3,7 @@
 mod file;
 mod ground_truth;
 mod info;
+mod refine;
 mod semantic;
 mod validate;
 mod victim;
