@@ -1,10 +1,11 @@
-//! `usar-mission`: the whole mission in one world. Paper 002's wheeled explorers and paper
-//! 004's crawler run as controllers on one host — one physics: they see each other in their
-//! lasers and block each other. The crawler builds a Behavioral Trace Map and sends it over the
-//! radio; the team's base station closes to its wheeled robots every link and node the crawler
-//! measured too steep, too narrow or too high a step for them. The evaluation follows every
-//! controller from outside (ground truth never reaches a controller), and [`report`] writes the
-//! report folder.
+//! `usar-mission`: the whole mission in one world. Paper 002's wheeled explorers, paper 004's
+//! crawler and paper 000's MAXQ rescuer run as controllers on one host — one physics: they see
+//! each other in their lasers and block each other. The crawler builds a Behavioral Trace Map
+//! and sends it over the radio; the team's base station closes to its wheeled robots every link
+//! and node the crawler measured too steep, too narrow or too high a step for them. The rescuer
+//! searches a rubble zone of the floor; one operator answers every hand-off ([`board`] holds
+//! the team's victim reports). The evaluation follows every controller from outside (ground
+//! truth never reaches a controller), and [`report`] writes the report folder.
 //!
 //! ```
 //! use std::sync::Arc;
@@ -17,6 +18,7 @@
 //! assert_eq!(outcome.team.robots, 4);
 //! assert!(outcome.team.explored_area_m2 > 0.0);
 //! assert!(outcome.crawler.as_ref().unwrap().nodes > 0);
+//! assert!(outcome.rescuer.is_some());
 //! ```
 
 pub mod board;
