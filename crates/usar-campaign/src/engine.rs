@@ -100,12 +100,12 @@ pub fn run_design(
                             output,
                             wall_time_s: started.elapsed().as_secs_f64(),
                         })
-                        .map_err(|message| CampaignError::Run {
+                        .map_err(|error| CampaignError::Run {
                             run: spec.id,
                             config: config.describe(
                                 &design.campaign.factors.keys().cloned().collect::<Vec<_>>(),
                             ),
-                            message,
+                            error,
                         });
                     // The writer stops listening after a failure; later results are dropped.
                     let _ = tx.send(result);

@@ -11,12 +11,12 @@ pub enum CampaignError {
     /// The database failed while working (disk full, I/O error).
     #[error("{path}: database error: {message}")]
     Database { path: String, message: String },
-    /// A run failed.
-    #[error("run {run} ({config}) failed: {message}")]
+    /// A run failed: because of its configuration (`RunError::Input`) or on its own.
+    #[error("run {run} ({config}) failed: {error}")]
     Run {
         run: u64,
         config: String,
-        message: String,
+        error: crate::runner::RunError,
     },
     /// Writing an output file failed.
     #[error(transparent)]
@@ -29,7 +29,11 @@ pub enum CampaignError {
 impl CampaignError {
     /// Whether the error comes from the input (exit code 2) rather than from the work itself.
     pub fn is_input(&self) -> bool {
-        matches!(self, CampaignError::Input(_))
+        match self {
+            CampaignError::Input(_) => true,
+            CampaignError::Run { error, .. } => error.is_input(),
+            _ => false,
+        }
     }
 
     pub(crate) fn db(path: &std::path::Path, e: rusqlite::Error) -> Self {

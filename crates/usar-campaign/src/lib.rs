@@ -21,7 +21,7 @@ pub use self::engine::{RunReport, Shard, run_design};
 pub use self::error::{CampaignError, Result};
 pub use self::lock::FolderLock;
 pub use self::runner::{
-    FactorKind, FactorSpec, MetricSpec, NoopRunner, RunOutput, Runner, SeriesPoint,
+    FactorKind, FactorSpec, MetricSpec, NoopRunner, RunError, RunOutput, Runner, SeriesPoint,
 };
 pub use self::store::{Store, merge};
 

@@ -97,6 +97,26 @@ pub struct RunOutput {
     pub series: Vec<SeriesPoint>,
 }
 
+/// Why a run could not be made: the user's configuration (exit code 2 at the command line), or
+/// the run itself.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RunError {
+    /// The configuration is the user's to fix: a scene file that does not exist, a value a
+    /// factor does not accept, a policy file that cannot be read.
+    #[error("{0}")]
+    Input(String),
+    /// The run failed on its own.
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl RunError {
+    /// Whether the user's configuration is at fault.
+    pub fn is_input(&self) -> bool {
+        matches!(self, RunError::Input(_))
+    }
+}
+
 /// A controller the engine can run. A run must be a pure function of (configuration, seed),
 /// whatever thread runs it.
 pub trait Runner: Sync {
@@ -109,11 +129,11 @@ pub trait Runner: Sync {
     /// What the x of its series means (e.g. `time_s`, `episode`).
     fn series_x(&self) -> &str;
     /// Checks a complete configuration before anything runs (e.g. that a scene file exists).
-    fn check(&self, _config: &Config) -> Result<(), String> {
+    fn check(&self, _config: &Config) -> Result<(), RunError> {
         Ok(())
     }
     /// Runs one configuration with one seed.
-    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String>;
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, RunError>;
 }
 
 /// A runner that does nothing but echo its seed: for measuring the engine's own overhead and
@@ -162,7 +182,7 @@ impl Runner for NoopRunner {
         "step"
     }
 
-    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, RunError> {
         let a = config.int("a").unwrap_or(0) as f64;
         let b = f64::from(u8::from(config.text("b") == Some("y")));
         let value = a + (seed % 7) as f64 / 10.0 + b;

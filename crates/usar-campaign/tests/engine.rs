@@ -215,3 +215,53 @@ fn shard_syntax() {
     assert!(Shard::parse("4/3").is_err());
     assert!(Shard::parse("1").is_err());
 }
+
+/// A runner that fails run 2 of configuration a = 2, as the user's fault or its own.
+struct Failing(usar_campaign::RunError);
+
+impl usar_campaign::Runner for Failing {
+    fn name(&self) -> &str {
+        "noop"
+    }
+    fn factors(&self) -> Vec<usar_campaign::FactorSpec> {
+        NoopRunner.factors()
+    }
+    fn metrics(&self) -> Vec<usar_campaign::MetricSpec> {
+        NoopRunner.metrics()
+    }
+    fn series_x(&self) -> &str {
+        "step"
+    }
+    fn run(
+        &self,
+        config: &usar_campaign::Config,
+        seed: u64,
+    ) -> Result<usar_campaign::RunOutput, usar_campaign::RunError> {
+        if config.int("a") == Some(2) {
+            return Err(self.0.clone());
+        }
+        NoopRunner.run(config, seed)
+    }
+}
+
+#[test]
+fn a_failed_run_says_whether_its_configuration_or_the_run_is_at_fault() {
+    use usar_campaign::{RunError, Runner};
+    for (error, input) in [
+        (
+            RunError::Input("scene nowhere.json does not exist".into()),
+            true,
+        ),
+        (RunError::Failed("the simulator gave up".into()), false),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let d = design(CAMPAIGN);
+        let mut store = Store::open_or_create(dir.path(), &d).unwrap();
+        let runner = Failing(error.clone());
+        assert_eq!(runner.name(), "noop");
+        let err = run_design(&d, &runner, &mut store, Shard::ALL, 1, |_, _| {}).unwrap_err();
+        assert_eq!(err.is_input(), input, "{err}");
+        assert!(err.to_string().contains(&error.to_string()), "{err}");
+        assert!(err.to_string().contains("a=2"), "{err}");
+    }
+}

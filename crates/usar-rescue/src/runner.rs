@@ -13,7 +13,9 @@ use crate::training::{TrainConfig, train};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
-use usar_campaign::{Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner};
+use usar_campaign::{
+    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner,
+};
 use usar_maxq::MaxqQ;
 
 /// Policies by (file, trials, seed) and scenes by (name, seed), built once per campaign.
@@ -167,29 +169,29 @@ impl Runner for MaxqEvalRunner {
         "step"
     }
 
-    fn check(&self, config: &Config) -> Result<(), String> {
+    fn check(&self, config: &Config) -> Result<(), RunError> {
         match config.text("policy") {
-            Some(file) if !file.is_empty() && !Path::new(file).is_file() => {
-                Err(format!("policy file {file} does not exist"))
-            }
+            Some(file) if !file.is_empty() && !Path::new(file).is_file() => Err(RunError::Input(
+                format!("policy file {file} does not exist"),
+            )),
             _ => Ok(()),
         }
     }
 
-    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
-        let policy = self.policy(config)?;
-        let scene = self.scene(config)?;
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, RunError> {
+        let policy = self.policy(config).map_err(RunError::Input)?;
+        let scene = self.scene(config).map_err(RunError::Input)?;
         let start = config.int("start").unwrap_or(0) as usize;
         let weights_name = config.text("weights").unwrap_or("travel");
         let weights = ExplorationWeights::named(weights_name)
-            .ok_or_else(|| format!("no weight case {weights_name}"))?;
+            .ok_or_else(|| RunError::Input(format!("no weight case {weights_name}")))?;
         let eval = EvalConfig {
             max_steps: config.int("max_steps").unwrap_or(6000) as u64,
             ..EvalConfig::default()
         };
         let (steps, stats, coverage, _, victims_reachable, exited) =
             run_once(&policy, &scene, start, &weights, &eval, seed)
-                .ok_or_else(|| format!("the scene has no start pose {start}"))?;
+                .ok_or_else(|| RunError::Input(format!("the scene has no start pose {start}")))?;
         let metrics = BTreeMap::from([
             ("steps".to_string(), steps as f64),
             ("coverage".to_string(), coverage),
@@ -253,11 +255,10 @@ mod tests {
         config
             .0
             .insert("policy".into(), Level::Text("no/such/policy.json".into()));
+        let err = runner.check(&config).unwrap_err();
         assert!(
-            runner
-                .check(&config)
-                .unwrap_err()
-                .contains("does not exist")
+            err.is_input() && err.to_string().contains("does not exist"),
+            "{err}"
         );
     }
 }

@@ -5,7 +5,7 @@ use crate::{TeamConfig, TeamMission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use usar_campaign::{
-    Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
+    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner, SeriesPoint,
 };
 use usar_world::Scene;
 use usar_world::io::source::{BareImage, load_scene};
@@ -178,17 +178,18 @@ impl Runner for ExploreRunner {
         "time (s)"
     }
 
-    fn check(&self, config: &Config) -> Result<(), String> {
-        let scene = self.scene(config)?;
-        let team = Self::team_config(config)?;
-        enough_start_poses(&scene, team.robots)
+    fn check(&self, config: &Config) -> Result<(), RunError> {
+        let scene = self.scene(config).map_err(RunError::Input)?;
+        let team = Self::team_config(config).map_err(RunError::Input)?;
+        enough_start_poses(&scene, team.robots).map_err(RunError::Input)
     }
 
-    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
-        let scene = self.scene(config)?;
-        let team = Self::team_config(config)?;
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, RunError> {
+        let scene = self.scene(config).map_err(RunError::Input)?;
+        let team = Self::team_config(config).map_err(RunError::Input)?;
+        // Every reason a team mission cannot start is its configuration's.
         let outcome = TeamMission::new(scene, team, seed)
-            .map_err(|e| e.to_string())?
+            .map_err(|e| RunError::Input(e.to_string()))?
             .run(|_| {});
         let metrics = BTreeMap::from([
             ("coverage".to_string(), outcome.coverage),

@@ -8,7 +8,7 @@ use crate::{Radio, TeamConfig, TeamMission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use usar_campaign::{
-    Config, FactorKind, FactorSpec, Level, MetricSpec, RunOutput, Runner, SeriesPoint,
+    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner, SeriesPoint,
 };
 use usar_map::segmentation::SegmentationParams;
 use usar_world::{RoomLabel, Scene};
@@ -226,27 +226,32 @@ impl Runner for TeamRunner {
         "time (s)"
     }
 
-    fn check(&self, config: &Config) -> Result<(), String> {
-        let mut team = Self::setup(config).config().map_err(|e| e.to_string())?;
-        team.tuning = super::tuning_of(config)?;
-        let scene = self.scene(config, &team)?;
-        enough_start_poses(&scene, team.robots)?;
+    fn check(&self, config: &Config) -> Result<(), RunError> {
+        let input = |e: String| RunError::Input(e);
+        let mut team = Self::setup(config)
+            .config()
+            .map_err(|e| input(e.to_string()))?;
+        team.tuning = super::tuning_of(config).map_err(input)?;
+        let scene = self.scene(config, &team).map_err(input)?;
+        enough_start_poses(&scene, team.robots).map_err(input)?;
         if scene.rooms.is_empty() {
-            return Err(format!(
+            return Err(input(format!(
                 "scene {} has no room layer and no free space to segment",
                 scene.name
-            ));
+            )));
         }
         Ok(())
     }
 
-    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, String> {
+    fn run(&self, config: &Config, seed: u64) -> Result<RunOutput, RunError> {
+        let input = |e: String| RunError::Input(e);
         let setup = Self::setup(config);
-        let mut team = setup.config().map_err(|e| e.to_string())?;
-        team.tuning = super::tuning_of(config)?;
-        let scene = self.scene(config, &team)?;
+        let mut team = setup.config().map_err(|e| input(e.to_string()))?;
+        team.tuning = super::tuning_of(config).map_err(input)?;
+        let scene = self.scene(config, &team).map_err(input)?;
+        // Every reason a team mission cannot start is its configuration's.
         let outcome = TeamMission::new(scene, team, seed)
-            .map_err(|e| e.to_string())?
+            .map_err(|e| input(e.to_string()))?
             .run(|_| {});
         let s = RunSummary::new(
             &outcome,
