@@ -31,7 +31,7 @@ pub mod obstacle;
 pub mod planner;
 
 pub use self::config::BuildConfig;
-pub use self::explorer::{EstimatedSample, Explorer};
+pub use self::explorer::{CrawlerReadings, EstimatedSample, Explorer};
 
 use crate::locomotion::RunMode;
 use crate::model::Btm;

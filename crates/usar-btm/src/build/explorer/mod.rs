@@ -29,7 +29,7 @@ use crate::store::BtmStore;
 use std::f64::consts::{PI, TAU};
 use usar_map::localization::{Localizer, ScanView, SideClearance};
 use usar_sim::host::{Controller, FleetIo};
-use usar_sim::sensors::LaserScan;
+use usar_sim::sensors::{Attitude, LaserScan, Odometry, TiltedScan};
 use usar_sim::{RobotSpec, Velocity};
 use usar_world::{Point2, Pose2, normalize_angle};
 
@@ -134,7 +134,8 @@ pub struct Explorer<'a> {
     done: bool,
     loc: Localizer,
     map: MapWriter<'a>,
-    raw: LaserScan,
+    /// The latest readings (their buffers reused from step to step).
+    readings: CrawlerReadings,
     view: ScanView,
     hits: Vec<FloorHit>,
     state: State,
@@ -187,7 +188,7 @@ impl<'a> Explorer<'a> {
                 if cfg.scan_map { loc.with_map() } else { loc }
             },
             map: MapWriter::new(store),
-            raw: LaserScan::default(),
+            readings: CrawlerReadings::new(start),
             view: ScanView::default(),
             hits: Vec::new(),
             state: State::Done,
@@ -236,9 +237,31 @@ impl<'a> Explorer<'a> {
         self.finished.take()
     }
 
+    /// One control step on `readings`, whatever produced them (the shared simulator, another
+    /// simulator, a real robot): the velocity to drive, or `None` once the map is finished —
+    /// then [`Explorer::take_finished`] says why (explored, out of time) or what went wrong.
+    pub fn next_command(&mut self, readings: &CrawlerReadings) -> Option<Velocity> {
+        if self.done {
+            return None;
+        }
+        let result = self.control(readings);
+        self.done = !matches!(result, Ok(Step::Drive(_)));
+        match result {
+            Ok(Step::Drive(command)) => Some(command),
+            Ok(Step::Stop(stop)) => {
+                self.finished = Some(Ok(stop));
+                None
+            }
+            Err(e) => {
+                self.finished = Some(Err(e));
+                None
+            }
+        }
+    }
+
     /// One step: sense, and unless the map is done or time is up, decide the command.
-    fn control(&mut self, io: &mut FleetIo<'_>) -> Result<Step, BuildError> {
-        self.sense(io);
+    fn control(&mut self, readings: &CrawlerReadings) -> Result<Step, BuildError> {
+        self.sense(readings);
         if !std::mem::replace(&mut self.started, true) {
             self.start()?;
         }
@@ -263,15 +286,12 @@ impl<'a> Explorer<'a> {
         )
     }
 
-    fn sense(&mut self, io: &mut FleetIo<'_>) {
-        self.now = io.time_s();
-        self.contact = io.contact(0);
-        io.laser(0, &mut self.raw);
-        self.view = ScanView::from_scan(&self.raw);
-        let tilted = io.tilted_laser(0);
-        self.hits = floor_hits(&self.spec.tilted_laser, &tilted);
-        let attitude = io.attitude(0);
-        self.inclination_rad = attitude.inclination_rad();
+    fn sense(&mut self, r: &CrawlerReadings) {
+        self.now = r.time_s;
+        self.contact = r.contact;
+        self.view = ScanView::from_scan(&r.laser);
+        self.hits = floor_hits(&self.spec.tilted_laser, &r.tilted);
+        self.inclination_rad = r.attitude.inclination_rad();
         let half = self.spec.width_m / 2.0;
         let driven = self.driven_m;
         self.recent_floor.extend(
@@ -287,7 +307,7 @@ impl<'a> Explorer<'a> {
         {
             self.recent_floor.pop_front();
         }
-        let odometry = io.odometry(0);
+        let odometry = &r.odometry;
         self.step_m = odometry.distance_m - self.last_odometry_m;
         self.last_odometry_m = odometry.distance_m;
         self.driven_m += self.step_m;
@@ -850,17 +870,57 @@ impl<'a> Explorer<'a> {
     }
 }
 
+/// What the crawler's sensors give the builder at one control step.
+#[derive(Clone, Debug)]
+pub struct CrawlerReadings {
+    pub time_s: f64,
+    /// The bumper: its last motion was stopped by something.
+    pub contact: bool,
+    /// The horizontal 2-D laser.
+    pub laser: LaserScan,
+    /// The laser tilted down at the floor ahead.
+    pub tilted: TiltedScan,
+    pub attitude: Attitude,
+    /// Dead reckoning from the tracks (its estimate starts at the start pose).
+    pub odometry: Odometry,
+}
+
+impl CrawlerReadings {
+    /// Empty readings of a robot at `start`.
+    pub fn new(start: Pose2) -> Self {
+        Self {
+            time_s: 0.0,
+            contact: false,
+            laser: LaserScan::default(),
+            tilted: TiltedScan::default(),
+            attitude: Attitude::default(),
+            odometry: Odometry::new(start),
+        }
+    }
+
+    /// The fleet's first robot's readings now, into these buffers.
+    pub fn read(&mut self, io: &mut FleetIo<'_>) {
+        self.time_s = io.time_s();
+        self.contact = io.contact(0);
+        io.laser(0, &mut self.laser);
+        self.tilted = io.tilted_laser(0);
+        self.attitude = io.attitude(0);
+        self.odometry = io.odometry(0);
+    }
+}
+
+/// On the host: the readings of the fleet's first robot in, its command out.
 impl Controller for Explorer<'_> {
     fn step(&mut self, io: &mut FleetIo<'_>) {
         if self.done {
             return;
         }
-        let result = self.control(io);
-        self.done = !matches!(result, Ok(Step::Drive(_)));
-        match result {
-            Ok(Step::Drive(command)) => io.command(0, command),
-            Ok(Step::Stop(stop)) => self.finished = Some(Ok(stop)),
-            Err(e) => self.finished = Some(Err(e)),
+        let mut readings =
+            std::mem::replace(&mut self.readings, CrawlerReadings::new(Pose2::default()));
+        readings.read(io);
+        if let Some(command) = self.next_command(&readings) {
+            io.command(0, command);
         }
+        self.readings = readings;
     }
 }
