@@ -20,7 +20,9 @@ fn main() {
     };
     // Your robot and its drivers.
     let mut robot = Simulation::new(scene, SimConfig::default(), 1);
-    let id = robot.add_robot(spec.clone(), start).expect("a free start pose");
+    let id = robot
+        .add_robot(spec.clone(), start)
+        .expect("a free start pose");
     // The builder, in the frame of where the robot starts.
     let mut builder = Explorer::new(spec, &config, start, None);
     let mut readings = CrawlerReadings::new(start);
