@@ -29,6 +29,7 @@ mod outcome;
 pub mod report;
 mod rescuer;
 mod tally;
+mod zone;
 
 pub use self::config::{CrawlerPart, MissionConfig, RescuerPart, TeamPart};
 pub use self::mission::run_mission;

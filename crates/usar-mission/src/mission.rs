@@ -168,7 +168,7 @@ impl<'a> Mission<'a> {
             (Some(part), Some(spec)) => {
                 let view = CellView::from_scene(&scene, &CellViewParams::default());
                 let start = scene.start_poses[rescuer_k];
-                Some(crate::rescuer::place(
+                Some(crate::zone::place(
                     &mut scene, &view, part, spec, start, seed,
                 )?)
             }
@@ -221,24 +221,14 @@ impl<'a> Mission<'a> {
         let view = CellView::from_scene(&scene, &CellViewParams::default());
         let rescuer = match (rescuer_part, rescuer_spec, placed) {
             (Some(part), Some(spec), Some((zone, put_down))) => {
-                let k = rescuer_k;
-                let oracles = Oracles {
-                    localization: match part.localization.as_str() {
-                        "true" => true,
-                        "estimated" => false,
-                        other => {
-                            return Err(bad(
-                                "rescuer.localization",
-                                format!("found `{other}`, expected true or estimated"),
-                            ));
-                        }
-                    },
-                };
-                // Put down at its cell's centre, or where the scene's start pose is when
+                let oracles = crate::rescuer::oracles(part)?;
+                // Put down where the rescue team chose, or where the scene's start pose is when
                 // something stands there.
                 let fleet = host
                     .add_fleet_with(&[(spec.clone(), put_down)], oracles)
-                    .or_else(|_| host.add_fleet_with(&[(spec, scene.start_poses[k])], oracles))?;
+                    .or_else(|_| {
+                        host.add_fleet_with(&[(spec, scene.start_poses[rescuer_k])], oracles)
+                    })?;
                 let (policy, trials) = crate::rescuer::policy(part, seed)?;
                 let controller = crate::rescuer::controller(part, zone, policy)?;
                 Some(Rescuer::new(fleet, controller, trials))
@@ -286,6 +276,9 @@ impl<'a> Mission<'a> {
                     .max_error_m
                     .max(estimate.position().distance(truth.position()));
             }
+            if let Some(r) = &mut self.rescuer {
+                self.host.decide(r.fleet, &mut r.controller);
+            }
             self.hand_offs();
             self.eval.update(
                 &mut self.team.team,
@@ -308,12 +301,11 @@ impl<'a> Mission<'a> {
         Ok(())
     }
 
-    /// The rescuer decides and asks; the team's new victim reports go on the board and to the
+    /// The rescuer's question and the team's new victim reports (on the board) go to the
     /// operator; the operator's answers due now reach the rescuer and the board.
     fn hand_offs(&mut self) {
         let now = self.host.time_s();
         if let Some(r) = &mut self.rescuer {
-            self.host.decide(r.fleet, &mut r.controller);
             let id = self.host.fleet(r.fleet)[0].0;
             if let Some(q) = r.controller.take_question() {
                 self.desk.ask(id, now, q);
