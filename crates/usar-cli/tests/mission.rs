@@ -18,9 +18,25 @@ fn the_built_in_mission_writes_its_report_and_prints_every_system() {
     assert_eq!(v["team"]["robots"], 4);
     assert!(v["crawler"]["nodes"].as_u64().unwrap() > 0);
     assert!(v["radio"]["delivered"].as_u64().unwrap() > 0);
-    for f in ["map.png", "victims.csv", "coverage.csv", "summary.json"] {
+    assert_eq!(v["rescuer"]["zone_cells"], 100);
+    let victims = &v["victim_figures"];
+    let count = |k: &str| victims[k].as_u64().unwrap();
+    assert_eq!(count("detected") + count("missed"), count("total"));
+    assert!(v["operator"]["answered"].as_u64() <= v["operator"]["asked"].as_u64());
+    assert!(v["wall_time_s"].as_f64().unwrap() > 0.0);
+    for f in [
+        "map.png",
+        "victims.csv",
+        "handoffs.csv",
+        "coverage.csv",
+        "summary.json",
+    ] {
         assert!(out_dir.join(f).is_file(), "{f}");
     }
+    let table = std::fs::read_to_string(out_dir.join("victims.csv")).unwrap();
+    assert!(
+        table.starts_with("id,x_m,y_m,detected_by,detected_at_s,confirmed_by,confirmed_at_s\n")
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
             .unwrap();
@@ -38,4 +54,20 @@ fn a_mission_file_with_an_unknown_field_is_bad_input() {
     );
     std::fs::write(&f, "minutes = 1\n[team]\nstrategy = \"best\"\n").unwrap();
     assert_bad_input(&usar(&["mission", "run", f.to_str().unwrap()]), "strategy");
+}
+
+#[test]
+fn a_bad_rescuer_or_operator_field_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("m.toml");
+    std::fs::write(&f, "minutes = 1\n[rescuer]\nzone = \"attic\"\n").unwrap();
+    assert_bad_input(
+        &usar(&["mission", "run", f.to_str().unwrap()]),
+        "rescuer.zone",
+    );
+    std::fs::write(&f, "minutes = 1\n[operator]\ndelay = 3\n").unwrap();
+    assert_bad_input(
+        &usar(&["mission", "run", f.to_str().unwrap()]),
+        "unknown field `delay`",
+    );
 }

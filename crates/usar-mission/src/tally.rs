@@ -138,7 +138,9 @@ impl Mission<'_> {
     pub(crate) fn operator_figures(&self, time_s: f64) -> OperatorFigures {
         let timeline = &self.desk.timeline;
         let waits: Vec<f64> = timeline.iter().map(|h| h.answered_s - h.asked_s).collect();
-        let busy: f64 = timeline.iter().map(|h| h.answered_s - h.started_s).sum();
+        let busy = timeline
+            .iter()
+            .fold(0.0, |b, h| b + (h.answered_s - h.started_s));
         OperatorFigures {
             asked: self.desk.asked,
             answered: timeline.len(),

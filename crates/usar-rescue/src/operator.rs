@@ -67,13 +67,21 @@ pub trait HandOff {
 /// - `skill` (0–1): probability that a driving command is the sensible one (toward open
 ///   ground, away from obstacles); otherwise the command is a random one and may collide.
 ///   Unskilled operators also command more slowly (`command_time_s` grows as skill falls).
+/// In a file every field may be left out (the expert's value) and unknown fields are refused.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct OperatorProfile {
     pub name: String,
     pub delay_s: f64,
     pub accuracy: f64,
     pub false_positive_rate: f64,
     pub skill: f64,
+}
+
+impl Default for OperatorProfile {
+    fn default() -> Self {
+        Self::expert()
+    }
 }
 
 impl OperatorProfile {
