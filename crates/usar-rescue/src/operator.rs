@@ -67,6 +67,7 @@ pub trait HandOff {
 /// - `skill` (0–1): probability that a driving command is the sensible one (toward open
 ///   ground, away from obstacles); otherwise the command is a random one and may collide.
 ///   Unskilled operators also command more slowly (`command_time_s` grows as skill falls).
+///
 /// In a file every field may be left out (the expert's value) and unknown fields are refused.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
