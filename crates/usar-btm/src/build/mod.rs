@@ -129,9 +129,10 @@ pub fn build_btm(
     build_btm_observed(scene, robot, config, seed, store, &mut |_, _, _| {})
 }
 
-/// [`build_btm`], calling `on_progress` with the simulated time (seconds), the robot's pose and
-/// the map built so far four times per simulated second, e.g. for a progress bar up to
-/// [`BuildConfig::max_time_s`] or to show the robot and its map live.
+/// [`build_btm`], calling `on_progress` with the simulated time (seconds), the robot's pose as
+/// it estimates it (the frame of its map) and the map built so far four times per simulated
+/// second, e.g. for a progress bar up to [`BuildConfig::max_time_s`] or to show the robot and
+/// its map live, as an operator sees them.
 pub fn build_btm_observed(
     scene: Arc<Scene>,
     robot: RobotSpec,
@@ -175,7 +176,7 @@ pub fn build_btm_observed(
         }
         if now >= reported_s + 0.25 {
             reported_s = (now * 4.0).floor() / 4.0;
-            on_progress(now, pose, explorer.btm());
+            on_progress(now, explorer.estimated_pose(), explorer.btm());
         }
         host.advance();
     };
