@@ -14,12 +14,11 @@ fn victim_of(truth: &Evaluator<'_>, reading: DetectionId) -> Option<u32> {
     }
 }
 
-/// The earlier of two (who, when), if any.
-fn earliest(a: Option<(String, f64)>, b: Option<(String, f64)>) -> Option<(String, f64)> {
-    match (a, b) {
-        (Some(a), Some(b)) => Some(if b.1 < a.1 { b } else { a }),
-        (a, b) => a.or(b),
-    }
+/// The earliest (who, when), if any; the first listed among equals.
+fn earliest(events: impl IntoIterator<Item = (String, f64)>) -> Option<(String, f64)> {
+    events
+        .into_iter()
+        .reduce(|a, b| if b.1 < a.1 { b } else { a })
 }
 
 impl Mission<'_> {
@@ -49,9 +48,8 @@ impl Mission<'_> {
                     .filter_map(|e| match e.confirmed {
                         Some((true, t)) => Some(("operator".to_string(), t)),
                         _ => None,
-                    })
-                    .reduce(|a, b| if b.1 < a.1 { b } else { a });
-                let tagged = self.rescuer.as_ref().and_then(|r| {
+                    });
+                let tagged = self.rescuer.iter().flat_map(|r| {
                     r.controller
                         .tags
                         .iter()
@@ -60,10 +58,9 @@ impl Mission<'_> {
                             let who = if t.by_operator { "operator" } else { "rescuer" };
                             (who.to_string(), t.time_s)
                         })
-                        .reduce(|a, b| if b.1 < a.1 { b } else { a })
                 });
-                let detected = earliest(by_team, by_rescuer);
-                let confirmed = earliest(on_board, tagged);
+                let detected = earliest(by_team.into_iter().chain(by_rescuer));
+                let confirmed = earliest(on_board.chain(tagged));
                 VictimRow {
                     id: v.id,
                     x_m: v.position.x,

@@ -20,8 +20,8 @@ use crate::exploration::Direction;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use usar_sim::sensors::{
-    DepthImage, DepthSpec, HeatTruth, InfraredSpec, SensingWorld, ThermalSpec, read_depth,
-    read_infrared, read_thermal,
+    DepthImage, DepthSpec, HeatTruth, InfraredReading, InfraredSpec, SensingWorld, ThermalSpec,
+    read_depth, read_infrared, read_thermal,
 };
 use usar_world::cellview::{CellClass, CellView, CellViewParams, LeastSquaresPlane};
 use usar_world::{Cell, Point2, Pose2, Rect, Scene};
@@ -72,6 +72,18 @@ struct Reading {
 /// Neighbours the infrared sensors look at, relative to the heading (forward, left):
 /// left, back-left, back, back-right, right — the default five sensor directions.
 pub const INFRARED_NEIGHBOURS: [(i32, i32); 5] = [(0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1)];
+
+/// The infrared sensors that see something closer than `reach_m` (a cell), as a mask: bit k
+/// for [`INFRARED_NEIGHBOURS`]\[k\].
+pub fn infrared_mask(reading: &InfraredReading, reach_m: f64) -> u8 {
+    reading
+        .ranges_m
+        .iter()
+        .take(INFRARED_NEIGHBOURS.len())
+        .enumerate()
+        .filter(|(_, range)| range.is_some_and(|d| d < reach_m))
+        .fold(0, |mask, (k, _)| mask | 1 << k)
+}
 
 /// Sensors and the per-scene cache of their readings.
 #[derive(Clone)]
@@ -213,18 +225,7 @@ impl Perception {
             .index(ahead)
             .map(|_| self.classify_ahead(view, pose, floor, ahead));
         let reading = read_infrared(&self.infrared, &self.world, pose, floor, &mut self.rng);
-        let reach = view.cell_size_m;
-        let mut infrared = 0u8;
-        for (k, range) in reading
-            .ranges_m
-            .iter()
-            .enumerate()
-            .take(INFRARED_NEIGHBOURS.len())
-        {
-            if range.is_some_and(|d| d < reach) {
-                infrared |= 1 << k;
-            }
-        }
+        let infrared = infrared_mask(&reading, view.cell_size_m);
         let start = self.heat.len() as u32;
         for d in read_thermal(
             &self.thermal,

@@ -5,7 +5,7 @@
 use super::RescueController;
 use crate::agent::{HeatReading, RescueAgent};
 use crate::exploration::Direction;
-use crate::perception::{INFRARED_NEIGHBOURS, RubbleClassifier};
+use crate::perception::{RubbleClassifier, infrared_mask};
 use usar_sim::host::FleetIo;
 use usar_sim::sensors::DetectionId;
 use usar_world::cellview::CellClass;
@@ -46,21 +46,9 @@ impl RescueController {
         Some(classifier.classify(&image, image.pose, floor_m, rect, centre))
     }
 
-    /// Infrared hits closer than a cell, as a mask over [`INFRARED_NEIGHBOURS`].
+    /// Infrared hits closer than a cell, as a mask over [`crate::perception::INFRARED_NEIGHBOURS`].
     pub(super) fn infrared(&self, io: &mut FleetIo<'_>) -> u8 {
-        let reading = io.infrared(0);
-        let mut mask = 0u8;
-        for (k, range) in reading
-            .ranges_m
-            .iter()
-            .enumerate()
-            .take(INFRARED_NEIGHBOURS.len())
-        {
-            if range.is_some_and(|d| d < self.zone.resolution_m) {
-                mask |= 1 << k;
-            }
-        }
-        mask
+        infrared_mask(&io.infrared(0), self.zone.resolution_m)
     }
 
     /// The thermal camera's warm regions inside the zone.
