@@ -28,6 +28,7 @@ mod mission;
 mod outcome;
 pub mod report;
 mod rescuer;
+pub mod runner;
 mod tally;
 mod zone;
 

@@ -1,2 +1,3 @@
 mod mission;
 mod rescuer;
+mod runner;

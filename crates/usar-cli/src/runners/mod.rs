@@ -1,16 +1,18 @@
 //! The runners campaigns can name: each wraps a controller of the library crates as a
 //! [`usar_campaign::Runner`] and lives in the controller's crate (`explore` and `team` in
-//! `usar-team`, `maxq-eval` in `usar-rescue`); here they are named and the presets kept.
+//! `usar-team`, `maxq-eval` in `usar-rescue`, `mission` in `usar-mission`); here they are named
+//! and the presets kept.
 
 use usar_campaign::Runner;
 
 static EXPLORE: usar_team::runner::ExploreRunner = usar_team::runner::ExploreRunner::new();
 static TEAM: usar_team::runner::TeamRunner = usar_team::runner::TeamRunner::new();
 static MAXQ_EVAL: usar_rescue::runner::MaxqEvalRunner = usar_rescue::runner::MaxqEvalRunner::new();
+static MISSION: usar_mission::runner::MissionRunner = usar_mission::runner::MissionRunner::new();
 
 /// Every runner, by the name campaign files use.
-pub fn all() -> [&'static dyn Runner; 3] {
-    [&EXPLORE, &TEAM, &MAXQ_EVAL]
+pub fn all() -> [&'static dyn Runner; 4] {
+    [&EXPLORE, &TEAM, &MAXQ_EVAL, &MISSION]
 }
 
 /// The runner a campaign names, if there is one.
@@ -19,7 +21,7 @@ pub fn named(name: &str) -> Option<&'static dyn Runner> {
 }
 
 /// The built-in campaign presets: name and file text (the files live in `campaigns/`).
-pub const PRESETS: [(&str, &str); 8] = [
+pub const PRESETS: [(&str, &str); 9] = [
     ("smoke", include_str!("../../../../campaigns/smoke.toml")),
     (
         "team-tables",
@@ -48,5 +50,9 @@ pub const PRESETS: [(&str, &str); 8] = [
     (
         "maxq-eval",
         include_str!("../../../../campaigns/maxq-eval.toml"),
+    ),
+    (
+        "mission",
+        include_str!("../../../../campaigns/mission.toml"),
     ),
 ];
