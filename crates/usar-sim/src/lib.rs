@@ -32,7 +32,7 @@ mod simulation;
 mod traversability;
 
 pub use self::cell_robot::{CellAction, CellOutcome, CellRobot, RotationStep};
-pub use self::robot::{Locomotion, RobotSpec};
+pub use self::robot::{FieldError, Locomotion, RobotSpec};
 pub use self::simulation::{
     PlacementError, RobotId, SimConfig, SimRobot, Simulation, Velocity, derive_seed,
 };

@@ -171,12 +171,12 @@ impl RobotSpec {
         let spec: RobotSpec = base
             .try_into()
             .map_err(|e: toml::de::Error| bad(e.message().trim().replace('\n', "; ")))?;
-        spec.validate().map_err(bad)?;
+        spec.validate().map_err(|e| bad(e.to_string()))?;
         Ok(spec)
     }
 
     /// Checks physical plausibility; the error names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         let positive = [
             ("length_m", self.length_m),
             ("width_m", self.width_m),
@@ -187,21 +187,21 @@ impl RobotSpec {
         ];
         for (field, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!(
-                    "field `{field}`: found {v}, expected a positive number"
-                ));
+                return Err(FieldError::new(field, v.to_string(), "a positive number"));
             }
         }
         if !(0.0..std::f64::consts::FRAC_PI_2).contains(&self.max_inclination_rad) {
-            return Err(format!(
-                "field `max_inclination_rad`: found {}, expected an angle in [0, π/2)",
-                self.max_inclination_rad
+            return Err(FieldError::new(
+                "max_inclination_rad",
+                self.max_inclination_rad.to_string(),
+                "an angle in [0, π/2)",
             ));
         }
         if !(self.max_step_m.is_finite() && self.max_step_m >= 0.0) {
-            return Err(format!(
-                "field `max_step_m`: found {}, expected ≥ 0 metres",
-                self.max_step_m
+            return Err(FieldError::new(
+                "max_step_m",
+                self.max_step_m.to_string(),
+                "≥ 0 metres",
             ));
         }
         let nonnegative = [
@@ -234,7 +234,7 @@ impl RobotSpec {
         ];
         for (field, v) in nonnegative {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(format!("field `{field}`: found {v}, expected a number ≥ 0"));
+                return Err(FieldError::new(field, v.to_string(), "a number ≥ 0"));
             }
         }
         let ranges = [
@@ -245,9 +245,7 @@ impl RobotSpec {
         ];
         for (field, v) in ranges {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!(
-                    "field `{field}`: found {v}, expected a positive number"
-                ));
+                return Err(FieldError::new(field, v.to_string(), "a positive number"));
             }
         }
         let full_turn = std::f64::consts::TAU;
@@ -260,26 +258,29 @@ impl RobotSpec {
         ];
         for (field, v) in fields_of_view {
             if !(v > 0.0 && v <= full_turn + 1e-9) {
-                return Err(format!(
-                    "field `{field}`: found {v}, expected an angle in (0, 2π]"
-                ));
+                return Err(FieldError::new(field, v.to_string(), "an angle in (0, 2π]"));
             }
         }
         if !(0.0..=1.0).contains(&self.thermal.size_noise_fraction) {
-            return Err(format!(
-                "field `thermal.size_noise_fraction`: found {}, expected a fraction in [0, 1]",
-                self.thermal.size_noise_fraction
+            return Err(FieldError::new(
+                "thermal.size_noise_fraction",
+                self.thermal.size_noise_fraction.to_string(),
+                "a fraction in [0, 1]",
             ));
         }
         let [low, high] = self.thermal.human_band_c;
         if !(low.is_finite() && high.is_finite() && low <= high) {
-            return Err(format!(
-                "field `thermal.human_band_c`: found [{low}, {high}], expected [low, high] °C with low ≤ high"
+            return Err(FieldError::new(
+                "thermal.human_band_c",
+                format!("[{low}, {high}]"),
+                "[low, high] °C with low ≤ high",
             ));
         }
         if let Some(d) = self.infrared.directions_rad.iter().find(|d| !d.is_finite()) {
-            return Err(format!(
-                "field `infrared.directions_rad`: found {d}, expected finite angles in radians"
+            return Err(FieldError::new(
+                "infrared.directions_rad",
+                d.to_string(),
+                "finite angles in radians",
             ));
         }
         // Beams are checked against the limit before any scan buffer is sized from them.
@@ -298,8 +299,10 @@ impl RobotSpec {
         ];
         for (field, n) in beams {
             if n > max_beams {
-                return Err(format!(
-                    "field `{field}`: found {n}, expected at most {max_beams} beams (raise the limit with --max-beams)"
+                return Err(FieldError::new(
+                    field,
+                    n.to_string(),
+                    format!("at most {max_beams} beams (raise the limit with --max-beams)"),
                 ));
             }
         }
@@ -310,10 +313,33 @@ impl RobotSpec {
             ("depth.cols", self.depth.cols),
         ] {
             if n == 0 {
-                return Err(format!("field `{field}`: found 0, expected at least 1"));
+                return Err(FieldError::new(field, "0", "at least 1"));
             }
         }
         Ok(())
+    }
+}
+
+/// A field of a robot's model out of its range: which, what was found, what was expected.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("field `{field}`: found {found}, expected {expected}")]
+pub struct FieldError {
+    pub field: String,
+    pub found: String,
+    pub expected: String,
+}
+
+impl FieldError {
+    pub fn new(
+        field: impl Into<String>,
+        found: impl Into<String>,
+        expected: impl Into<String>,
+    ) -> Self {
+        Self {
+            field: field.into(),
+            found: found.into(),
+            expected: expected.into(),
+        }
     }
 }
 
@@ -364,6 +390,20 @@ mod tests {
             let spec = RobotSpec::preset(name).unwrap();
             assert_eq!(spec.validate(), Ok(()), "{name}");
         }
+    }
+
+    #[test]
+    fn a_bad_value_is_a_typed_field_error() {
+        let mut spec = RobotSpec::crawler();
+        spec.width_m = -0.4;
+        assert_eq!(
+            spec.validate(),
+            Err(FieldError::new("width_m", "-0.4", "a positive number"))
+        );
+        assert_eq!(
+            spec.validate().unwrap_err().to_string(),
+            "field `width_m`: found -0.4, expected a positive number"
+        );
     }
 
     #[test]

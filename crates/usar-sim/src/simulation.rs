@@ -215,9 +215,9 @@ impl Simulation {
 
     /// Adds a robot at `pose`. Its noise stream is derived from the simulation seed and its id.
     pub fn add_robot(&mut self, spec: RobotSpec, pose: Pose2) -> Result<RobotId, PlacementError> {
-        spec.validate().map_err(|message| PlacementError::BadSpec {
+        spec.validate().map_err(|e| PlacementError::BadSpec {
             name: spec.name.clone(),
-            message,
+            message: e.to_string(),
         })?;
         let id = RobotId(self.robots.len());
         let blocked = self.blocked_for(&spec);
