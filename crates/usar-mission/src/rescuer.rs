@@ -79,30 +79,30 @@ impl Rescuer {
     /// Scores the possible victims it met since the last call (`truth` resolves their
     /// readings) and extends its believed trajectory.
     pub(crate) fn follow(&mut self, now_s: f64, truth: impl Fn(DetectionId) -> Option<HeatTruth>) {
-        let sightings = self.controller.sightings();
-        for &(source, _) in &sightings[self.sightings_seen..] {
+        let Some(agent) = self.controller.agent() else {
+            return;
+        };
+        for (source, _) in agent.victim_sources().skip(self.sightings_seen) {
+            self.sightings_seen += 1;
             if let Some(HeatTruth::Victim(id)) = truth(source)
                 && !self.seen.iter().any(|&(v, _)| v == id)
             {
                 self.seen.push((id, now_s));
             }
         }
-        self.sightings_seen = sightings.len();
-        if let Some(agent) = self.controller.agent() {
-            let p = self.controller.zone().cell_center(agent.robot.cell);
-            if self.trajectory.last() != Some(&p) {
-                self.trajectory.push(p);
-            }
+        let p = self.controller.zone().cell_center(agent.robot.cell);
+        if self.trajectory.last() != Some(&p) {
+            self.trajectory.push(p);
         }
     }
 
     /// Its possible victims still undecided.
     pub(crate) fn pending(&self) -> usize {
-        self.controller
-            .sightings()
-            .iter()
-            .filter(|(_, m)| *m == VictimMark::Pending)
-            .count()
+        self.controller.agent().map_or(0, |a| {
+            a.victim_sources()
+                .filter(|(_, m)| *m == VictimMark::Pending)
+                .count()
+        })
     }
 }
 

@@ -115,15 +115,15 @@ impl Mission<'_> {
             cells_visited: c.agent().map_or(0, |a| a.visited().filter(|&v| v).count()),
             policy_trials: r.trained_trials,
             primitives: c.log.primitives,
-            possible_victims: c.sightings().len(),
+            possible_victims: c.agent().map_or(0, |a| a.victim_sources().count()),
             pending: r.pending(),
             tags: tags.len(),
             true_tags: tags
                 .iter()
                 .filter(|t| victim_of(truth, t.source).is_some())
                 .count(),
-            handoffs_victim: c.log.handoffs_victim,
-            handoffs_stuck: c.log.handoffs_stuck,
+            handoffs_victim: c.handoffs().0,
+            handoffs_stuck: c.handoffs().1,
             waiting_s: c.log.waiting_s,
             collisions: body.collisions,
             distance_m: body.distance_m,

@@ -29,7 +29,7 @@ mod senses;
 use self::motion::Motion;
 use self::senses::DEPTH_MARGIN_M;
 use crate::agent::{Begun, CellReading, RescueAgent};
-use crate::domain::{DomainConfig, VictimMark};
+use crate::domain::DomainConfig;
 use crate::exploration::{Direction, ExplorationWeights};
 use crate::hierarchy::{self, RescueHierarchy};
 use crate::operator::{NavigationRequest, VictimDecision};
@@ -102,9 +102,6 @@ pub struct RescueLog {
     pub primitives: u64,
     /// Table I's rewards the robot can score itself (all but those of its tags).
     pub reward: f64,
-    /// Hand-offs asked: uncertain victims and stuck.
-    pub handoffs_victim: u32,
-    pub handoffs_stuck: u32,
     /// Questions answered by the operator.
     pub answers: u32,
     /// Seconds spent stopped, waiting for an answer.
@@ -164,12 +161,6 @@ impl RescueController {
         self.mind.as_ref().map(|(a, _)| a)
     }
 
-    /// The possible victims it met: the reading that made each one, and what became of it.
-    pub fn sightings(&self) -> Vec<(DetectionId, VictimMark)> {
-        self.agent()
-            .map_or_else(Vec::new, |a| a.victim_sources().collect())
-    }
-
     /// The zone's cells.
     pub fn zone(&self) -> &GridGeometry {
         &self.zone
@@ -224,20 +215,21 @@ impl RescueController {
             infrared: self.infrared(io),
             heat: &heat,
         });
-        agent.take_handoffs_asked();
         self.mind = Some((agent, classifier));
         true
     }
 
-    /// The log's counts from the robot's mind.
-    fn sync_log(&mut self) {
-        if let Some((agent, _)) = &mut self.mind {
-            // The operator's time is the host's clock here, not a charge.
-            agent.take_handoffs_asked();
-            self.log.handoffs_victim = agent.stats.handoffs_victim;
-            self.log.handoffs_stuck = agent.stats.handoffs_stuck;
-            self.log.finished |= agent.is_done();
-        }
+    /// Notes an Exit in the log. (The hand-offs the mind counts for a charge of the operator's
+    /// time are not drained: here the operator's time is the host's clock.)
+    fn note_exit(&mut self) {
+        self.log.finished |= self.agent().is_some_and(RescueAgent::is_done);
+    }
+
+    /// Hand-offs it asked for: uncertain victims (HC₂) and stuck (HC₃).
+    pub fn handoffs(&self) -> (u32, u32) {
+        self.agent().map_or((0, 0), |a| {
+            (a.stats.handoffs_victim, a.stats.handoffs_stuck)
+        })
     }
 
     /// The operator's answer at hand-off node `node`, a question, or the learner's choice.
@@ -331,7 +323,7 @@ impl Controller for RescueController {
                         by_operator: answered,
                     })),
                 }
-                self.sync_log();
+                self.note_exit();
             }
             Next::Wait => self.log.waiting_s += io.dt_s(),
             Next::Finished => self.log.finished = true,

@@ -106,7 +106,7 @@ impl RescueController {
         };
         self.log.reward += agent.finish(m, outcome, felt, reading);
         self.mind = Some((agent, classifier));
-        self.sync_log();
+        self.note_exit();
     }
 
     /// One control step of the primitive being driven: its command, or its end.

@@ -50,11 +50,12 @@ impl ExploreRunner {
     }
 }
 
-/// The scene a configuration names (`scene`, `scene_seed`), from `cache` or loaded into it.
-pub(crate) fn scene_for(
-    cache: &Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
-    config: &Config,
-) -> Result<Arc<Scene>, String> {
+/// Scenes by (scene, scene_seed), generated or read once per campaign.
+pub type SceneCache = Mutex<BTreeMap<(String, u64), Arc<Scene>>>;
+
+/// The scene a configuration names (`scene`, `scene_seed`), from `cache` or loaded into it
+/// (the `explore`, `team` and `mission` runners share it).
+pub fn scene_for(cache: &SceneCache, config: &Config) -> Result<Arc<Scene>, String> {
     let name = config.text("scene").unwrap_or("office").to_string();
     let seed = config.int("scene_seed").unwrap_or(1) as u64;
     let key = (name.clone(), seed);

@@ -4,7 +4,7 @@
 mod explore;
 mod team;
 
-pub use self::explore::ExploreRunner;
+pub use self::explore::{ExploreRunner, SceneCache, scene_for};
 pub use self::team::TeamRunner;
 
 use crate::tuning::Tuning;
