@@ -119,6 +119,11 @@ pub struct RescuerPart {
     /// the free floor of the room its zone is in (`largest-room` only): the collapsed part of the
     /// building.
     pub rubble: bool,
+    /// Where the robot is put down in a rubble zone: `arena-start` (the rubble arena's own
+    /// start cell, where paper 000's robot enters its arena; the zone's centre when that falls
+    /// on a wall of the floor) or `open-turnable` (a variant developed on the report floors:
+    /// open floor where its body can turn, in the largest part of the zone it can reach).
+    pub put_down: String,
     /// A policy file (`usar maxq train`); empty: trained at the start for `train_trials`
     /// trials on generated rubble scenes (as the console does).
     pub policy: String,
@@ -140,6 +145,7 @@ impl Default for RescuerPart {
             zone: "largest-room".into(),
             zone_cells: 10,
             rubble: true,
+            put_down: "arena-start".into(),
             policy: String::new(),
             train_trials: 300,
             weights: "equal".into(),

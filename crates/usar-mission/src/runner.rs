@@ -8,13 +8,12 @@ use std::sync::{Arc, Mutex};
 use usar_campaign::{
     Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner, SeriesPoint,
 };
+use usar_team::runner::{SceneCache, scene_for};
 use usar_world::Scene;
-use usar_world::io::source::{BareImage, load_scene};
 
 /// See the [module documentation](self).
 pub struct MissionRunner {
-    /// Scenes by (scene, scene_seed): generated or read once per campaign.
-    scenes: Mutex<BTreeMap<(String, u64), Arc<Scene>>>,
+    scenes: SceneCache,
 }
 
 impl Default for MissionRunner {
@@ -61,52 +60,42 @@ impl MissionRunner {
     }
 
     fn scene(&self, config: &Config) -> Result<Arc<Scene>, RunError> {
-        let name = config.text("scene").unwrap_or("office").to_string();
-        let seed = config.int("scene_seed").unwrap_or(1) as u64;
-        let key = (name.clone(), seed);
-        if let Some(s) = self.scenes.lock().expect("scene cache").get(&key) {
-            return Ok(s.clone());
-        }
-        let scene = load_scene(&name, seed, &BareImage::default())
-            .map_err(|e| RunError::Input(e.to_string()))?;
-        let scene = Arc::new(scene);
-        self.scenes
-            .lock()
-            .expect("scene cache")
-            .insert(key, scene.clone());
-        Ok(scene)
+        scene_for(&self.scenes, config).map_err(RunError::Input)
     }
 
     /// The mission file a configuration stands for: the built-in mission with the factors'
-    /// values.
+    /// values (a factor left out keeps the built-in value).
     fn mission(config: &Config) -> MissionConfig {
         let mut m = MissionConfig::default();
-        let d = MissionConfig::default();
-        m.scene = config.text("scene").unwrap_or(&d.scene).to_string();
-        m.scene_seed = config.int("scene_seed").map_or(d.scene_seed, |s| s as u64);
-        m.minutes = config.float("minutes").unwrap_or(d.minutes);
+        m.scene = config.text("scene").unwrap_or(&m.scene).to_string();
+        m.scene_seed = config.int("scene_seed").map_or(m.scene_seed, |s| s as u64);
+        m.minutes = config.float("minutes").unwrap_or(m.minutes);
         m.team.robots = config
             .int("team_robots")
-            .map_or(d.team.robots, |n| n as usize);
+            .map_or(m.team.robots, |n| n as usize);
         m.team.strategy = config
             .text("strategy")
-            .unwrap_or(&d.team.strategy)
+            .unwrap_or(&m.team.strategy)
             .to_string();
         m.team.coordination = config
             .text("coordination")
-            .unwrap_or(&d.team.coordination)
+            .unwrap_or(&m.team.coordination)
             .to_string();
-        m.crawler.enabled = config.int("crawler").map_or(d.crawler.enabled, |v| v == 1);
-        m.rescuer.enabled = config.int("rescuer").map_or(d.rescuer.enabled, |v| v == 1);
+        m.crawler.enabled = config.int("crawler").map_or(m.crawler.enabled, |v| v == 1);
+        m.rescuer.enabled = config.int("rescuer").map_or(m.rescuer.enabled, |v| v == 1);
         m.rescuer.zone_cells = config
             .int("zone_cells")
-            .map_or(d.rescuer.zone_cells, |v| v as u32);
+            .map_or(m.rescuer.zone_cells, |v| v as u32);
+        m.rescuer.put_down = config
+            .text("put_down")
+            .unwrap_or(&m.rescuer.put_down)
+            .to_string();
         m.rescuer.train_trials = config
             .int("train_trials")
-            .map_or(d.rescuer.train_trials, |v| v as u32);
+            .map_or(m.rescuer.train_trials, |v| v as u32);
         m.operator.delay_s = config
             .float("operator_delay_s")
-            .unwrap_or(d.operator.delay_s);
+            .unwrap_or(m.operator.delay_s);
         m
     }
 }
@@ -156,6 +145,12 @@ impl Runner for MissionRunner {
                 (2, 40),
                 10,
                 "side of the rescuer's zone, cells",
+            ),
+            text(
+                "put_down",
+                &["arena-start", "open-turnable"],
+                "arena-start",
+                "where the rescuer is put down in its rubble zone",
             ),
             int(
                 "train_trials",

@@ -90,7 +90,7 @@ pub(crate) fn place(
             let allowed: Vec<bool> = (0..g.len())
                 .map(|i| scene.room_id.as_slice()[i] == room && scene.obstacle.as_slice()[i] == 0)
                 .collect();
-            lay_rubble(
+            let laid = lay_rubble(
                 scene,
                 zone.origin,
                 (zone.width, zone.height),
@@ -99,7 +99,16 @@ pub(crate) fn place(
                 |c| allowed[g.index(c)],
             );
             let view = CellView::from_scene(scene, &CellViewParams::default());
-            let chosen = put_down_in(&view, scene, &zone, spec);
+            let chosen = match part.put_down.as_str() {
+                "arena-start" => laid.start,
+                "open-turnable" => put_down_in(&view, scene, &zone, spec),
+                other => {
+                    return Err(bad(
+                        "put_down",
+                        format!("found `{other}`, expected arena-start or open-turnable"),
+                    ));
+                }
+            };
             Ok((zone, chosen.unwrap_or(put_down)))
         }
         other => Err(bad(
@@ -109,8 +118,8 @@ pub(crate) fn place(
     }
 }
 
-/// Where the rescue team puts the robot down in its zone, looking at the scene as people on
-/// site do: on open floor where it can turn (no fine cell its body could not stand on within
+/// The variant `open-turnable` of where the robot is put down in its zone, looking at the scene
+/// as people on site do: on open floor where it can turn (no fine cell its body could not stand on within
 /// its circumscribed radius of the cell's centre), in the largest part of the zone a climbing
 /// robot can reach from there (nearest the zone's centre among equals), facing east. The robot
 /// is told nothing of it.

@@ -71,6 +71,7 @@ fn a_bad_rescuer_field_names_it() {
     let scene = Arc::new(generate(SceneKind::Office, 1));
     for (text, field) in [
         ("[rescuer]\nzone = \"attic\"\n", "rescuer.zone"),
+        ("[rescuer]\nput_down = \"roof\"\n", "rescuer.put_down"),
         ("[rescuer]\nweights = \"heavy\"\n", "rescuer.weights"),
         (
             "[rescuer]\nlocalization = \"gps\"\n",

@@ -21,7 +21,7 @@ pub fn named(name: &str) -> Option<&'static dyn Runner> {
 }
 
 /// The built-in campaign presets: name and file text (the files live in `campaigns/`).
-pub const PRESETS: [(&str, &str); 9] = [
+pub const PRESETS: [(&str, &str); 10] = [
     ("smoke", include_str!("../../../../campaigns/smoke.toml")),
     (
         "team-tables",
@@ -54,5 +54,9 @@ pub const PRESETS: [(&str, &str); 9] = [
     (
         "mission",
         include_str!("../../../../campaigns/mission.toml"),
+    ),
+    (
+        "rescuer-put-down",
+        include_str!("../../../../campaigns/rescuer-put-down.toml"),
     ),
 ];
