@@ -43,7 +43,7 @@ fn serve(
     let mission = dir.join("small.toml");
     std::fs::write(
         &mission,
-        "team_robots = 1\ntrain_trials = 50\nbtm = false\n",
+        "minutes = 5\n[team]\nrobots = 1\n[crawler]\nenabled = false\n[rescuer]\ntrain_trials = 50\n",
     )
     .expect("writes");
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_usar"));
@@ -116,15 +116,20 @@ fn the_token_comes_from_a_file_or_the_environment() {
 fn a_bad_bind_address_or_mission_file_is_bad_input() {
     let out = usar(&["console", "--bind", "localhost"]);
     assert_bad_input(&out, "--bind localhost");
+    let out = usar(&["console", "--speed=-1"]);
+    assert_bad_input(&out, "speed");
     let dir = tempfile::tempdir().expect("temp dir");
     let mission = dir.path().join("mission.toml");
     for (text, field) in [
-        ("team_robots = 2\nwarp_drive = true\n", "warp_drive"),
-        ("speed = -1\n", "speed"),
-        ("team_robot = \"hovercraft\"\n", "team_robot"),
-        ("floor_cell_m2 = 0\n", "floor_cell_m2"),
-        ("train_trials = 4000000000\n", "train_trials"),
-        ("team_robots = 100000\n", "team_robots"),
+        ("[team]\nrobots = 2\nwarp_drive = true\n", "warp_drive"),
+        ("speed = 2\n", "speed"),
+        ("[team]\nrobot = \"hovercraft\"\n", "hovercraft"),
+        ("[rescuer]\nzone_cells = 0\n", "rescuer.zone_cells"),
+        (
+            "[rescuer]\ntrain_trials = 4000000000\n",
+            "rescuer.train_trials",
+        ),
+        ("[team]\nrobots = 100000\n", "team.robots"),
     ] {
         std::fs::write(&mission, text).expect("writes");
         let out = usar(&["console", "--mission", mission.to_str().expect("utf-8")]);

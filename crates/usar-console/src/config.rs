@@ -1,7 +1,6 @@
 //! What a console runs and where it listens: the mission file (TOML) and the server options
 //! (address, access token, allowed origins, limits).
 
-use serde::Deserialize;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -21,8 +20,6 @@ pub const MAX_TOKEN_CHARS: usize = 256;
 pub const MAX_MISSION_FILE_BYTES: u64 = 1 << 20;
 /// The most team robots a mission may have.
 pub const MAX_TEAM_ROBOTS: usize = 32;
-/// The longest team mission, simulated minutes (a week).
-pub const MAX_MINUTES: f64 = 7.0 * 24.0 * 60.0;
 
 /// Why a console could not start.
 #[derive(Debug, thiserror::Error)]
@@ -67,86 +64,62 @@ pub enum ConsoleError {
         addr: SocketAddr,
         source: std::io::Error,
     },
-    /// The policy file could not be used.
+    /// The scene could not be read or generated.
+    #[error("scene {spec}: {message}")]
+    Scene { spec: String, message: String },
+    /// The mission could not be set up.
     #[error(transparent)]
-    Policy(#[from] usar_rescue::policy::PolicyError),
-    /// The team mission could not be set up.
-    #[error("team mission: {0}")]
-    Team(#[from] usar_team::MissionError),
+    Mission(#[from] usar_mission::MissionError),
 }
 
-/// The simulated mission (a TOML mission file; every field optional).
-///
-/// ```toml
-/// seed = 1            # scene generator and every random stream
-/// team_robots = 3     # robots exploring with S-MCDM
-/// strategy = "s-mcdm" # random | distance | d-mcdm | s-mcdm
-/// hypothesis = "big"  # big | small (paper 002)
-/// speed = 1.0         # simulated seconds per wall-clock second
-/// train_trials = 300  # MAXQ training at start when no policy file is given
-/// slip_probability = 0.3
-/// stuck_after_slips = 2
-/// weights = [1.0, 1.0, 1.0]   # w_l, w_p, w_q (paper 000 §V)
-/// btm = true          # build a BTM beside the mission
-/// minutes = 60        # the team's mission length (simulated)
-/// team_robot = "crawler"  # crawler | wheeled (usar-sim presets)
-/// floor_cell_m2 = 2.25    # cell area of the generated rubble floor (paper 000: 0.84)
-/// ```
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+impl ConsoleError {
+    /// Whether the console's input (its options, mission file or scene) is at fault rather
+    /// than the machine (an address in use, a failed set-up thread).
+    pub fn is_input(&self) -> bool {
+        match self {
+            ConsoleError::Bind { .. } => false,
+            ConsoleError::Mission(e) => e.is_input(),
+            _ => true,
+        }
+    }
+}
+
+/// What the console runs: a mission file of `usar mission run` ([`usar_mission::MissionConfig`],
+/// `docs/mission-format.md`) on its seed, at a pace. A person at the console is the mission's
+/// operator: every hand-off waits for their answer.
+#[derive(Clone, Debug)]
 pub struct MissionConfig {
+    pub mission: usar_mission::MissionConfig,
+    /// The seed of every random stream of the run.
     pub seed: u64,
-    pub team_robots: usize,
-    pub strategy: String,
-    pub hypothesis: String,
+    /// Simulated seconds per wall-clock second (0 < speed ≤ 1000; default 1).
     pub speed: f64,
-    pub train_trials: u32,
-    pub slip_probability: f64,
-    pub stuck_after_slips: u32,
-    pub weights: [f64; 3],
-    pub btm: bool,
-    pub minutes: f64,
-    /// The team's robots: a `usar-sim` preset. The crawler climbs the rubble the MAXQ robot
-    /// climbs; the wheeled robot (paper 002's default) stops at every step of 5 cm.
-    pub team_robot: String,
-    /// Cell area of the generated rubble floor, m². Paper 000's arena has 0.84 m² cells, whose
-    /// single-cell gates (0.92 m) leave a 0.6 × 0.45 m crawler too little room to plan through
-    /// its inflated map; the console's floor has 1.5 m cells (2.25 m²) so that the team explores
-    /// it too. The MAXQ robot works on cells of any size.
-    pub floor_cell_m2: f64,
-    /// A policy file (`usar maxq train`); trained at start when absent.
-    pub policy: Option<PathBuf>,
-    /// The scene; a generated rubble floor when absent. Not in the file (given by the CLI).
-    #[serde(skip)]
+    /// The scene; when absent, `mission.scene` names a generator (with `mission.scene_seed`) or
+    /// a file.
     pub scene: Option<Scene>,
 }
 
 impl Default for MissionConfig {
     fn default() -> Self {
         Self {
+            mission: usar_mission::MissionConfig::default(),
             seed: 1,
-            team_robots: 3,
-            strategy: "s-mcdm".into(),
-            hypothesis: "big".into(),
             speed: 1.0,
-            train_trials: 300,
-            slip_probability: 0.3,
-            stuck_after_slips: 2,
-            weights: [1.0, 1.0, 1.0],
-            btm: true,
-            minutes: 60.0,
-            team_robot: "crawler".into(),
-            floor_cell_m2: 2.25,
-            policy: None,
             scene: None,
         }
     }
 }
 
+fn field_error(field: &str, message: String) -> ConsoleError {
+    ConsoleError::Field {
+        field: field.into(),
+        message,
+    }
+}
+
 impl MissionConfig {
-    /// Reads a mission file.
-    /// Reads a mission file and checks every field (unknown fields are refused) before
-    /// anything is set up; an error names the file and the field.
+    /// Reads a mission file (at most [`MAX_MISSION_FILE_BYTES`]; unknown fields are refused);
+    /// an error names the file and the field or line.
     pub fn from_file(path: &Path) -> Result<Self, ConsoleError> {
         let io = |source| ConsoleError::Io {
             path: path.into(),
@@ -162,107 +135,61 @@ impl MissionConfig {
             });
         }
         let text = std::fs::read_to_string(path).map_err(io)?;
-        let config: MissionConfig =
-            toml::from_str(&text).map_err(|e| ConsoleError::MissionFile {
-                path: path.into(),
-                message: e.to_string().replace('\n', " "),
-            })?;
-        config.validate().map_err(|e| match e {
-            ConsoleError::Field { field, message } => ConsoleError::MissionFile {
-                path: path.into(),
-                message: format!("field `{field}`: {message}"),
+        let mission = toml::from_str(&text).map_err(|e| ConsoleError::MissionFile {
+            path: path.into(),
+            message: e.to_string().replace('\n', " "),
+        })?;
+        let config = Self {
+            mission,
+            ..Self::default()
+        };
+        config.validate().map_err(|e| ConsoleError::MissionFile {
+            path: path.into(),
+            message: match e {
+                ConsoleError::Field { field, message } => format!("field `{field}`: {message}"),
+                other => other.to_string(),
             },
-            other => other,
         })?;
         Ok(config)
     }
 
-    /// Checks every value's range (before anything is allocated or trained).
+    /// Checks every value before anything is set up or trained: the mission's own
+    /// ([`usar_mission::MissionConfig::check`]) and what the console adds (its pace, a cap on
+    /// the team).
     pub fn validate(&self) -> Result<(), ConsoleError> {
-        let field = |f: &str, m: String| ConsoleError::Field {
-            field: f.into(),
-            message: m,
-        };
-        if !(1..=MAX_TEAM_ROBOTS).contains(&self.team_robots) {
-            return Err(field(
-                "team_robots",
-                format!(
-                    "found {}, expected 1 to {MAX_TEAM_ROBOTS}",
-                    self.team_robots
-                ),
-            ));
-        }
-        if let Err(e) = usar_rescue::training::check_trials(self.train_trials) {
-            return Err(field("train_trials", e.problem()));
-        }
-        if !(1..=100).contains(&self.stuck_after_slips) {
-            return Err(field(
-                "stuck_after_slips",
-                format!("found {}, expected 1 to 100", self.stuck_after_slips),
-            ));
-        }
-        if !(self.speed.is_finite() && self.speed > 0.0 && self.speed <= 1000.0) {
+        let field = field_error;
+        let speed = self.speed;
+        if !(speed.is_finite() && speed > 0.0 && speed <= 1000.0) {
             return Err(field(
                 "speed",
-                format!("found {}, expected 0 < speed ≤ 1000", self.speed),
+                format!("found {speed}, expected 0 < speed ≤ 1000"),
             ));
         }
-        if !(0.0..=1.0).contains(&self.slip_probability) {
+        let robots = self.mission.team.robots;
+        if !(1..=MAX_TEAM_ROBOTS).contains(&robots) {
             return Err(field(
-                "slip_probability",
-                format!("found {}, expected a probability", self.slip_probability),
+                "team.robots",
+                format!("found {robots}, expected 1 to {MAX_TEAM_ROBOTS}"),
             ));
         }
-        if self
-            .weights
-            .iter()
-            .any(|w| !(w.is_finite() && (0.0..=100.0).contains(w)))
-        {
-            return Err(field(
-                "weights",
-                format!(
-                    "found {:?}, expected three numbers from 0 to 100",
-                    self.weights
-                ),
-            ));
+        self.mission.check().map_err(|e| match e {
+            usar_mission::MissionError::Config { field, message } => field_error(&field, message),
+            other => other.into(),
+        })
+    }
+
+    /// The scene: the one given, or the one `mission.scene` names.
+    pub fn scene(&self) -> Result<Scene, ConsoleError> {
+        if let Some(s) = &self.scene {
+            return Ok(s.clone());
         }
-        if !(self.minutes.is_finite() && self.minutes > 0.0 && self.minutes <= MAX_MINUTES) {
-            return Err(field(
-                "minutes",
-                format!(
-                    "found {}, expected 0 < minutes ≤ {MAX_MINUTES} (a week)",
-                    self.minutes
-                ),
-            ));
-        }
-        if usar_sim::RobotSpec::preset(&self.team_robot).is_none() {
-            return Err(field(
-                "team_robot",
-                format!("found {:?}, expected crawler or wheeled", self.team_robot),
-            ));
-        }
-        if !(self.floor_cell_m2.is_finite() && (0.25..=16.0).contains(&self.floor_cell_m2)) {
-            return Err(field(
-                "floor_cell_m2",
-                format!("found {}, expected 0.25 to 16 m²", self.floor_cell_m2),
-            ));
-        }
-        if usar_team::criteria::Hypothesis::named(&self.hypothesis).is_none() {
-            return Err(field(
-                "hypothesis",
-                format!("found {:?}, expected big or small", self.hypothesis),
-            ));
-        }
-        if crate::team_hook::strategy(&self.strategy).is_none() {
-            return Err(field(
-                "strategy",
-                format!(
-                    "found {:?}, expected random, distance, d-mcdm or s-mcdm",
-                    self.strategy
-                ),
-            ));
-        }
-        Ok(())
+        let m = &self.mission;
+        usar_world::io::source::load_scene(&m.scene, m.scene_seed, &Default::default()).map_err(
+            |e| ConsoleError::Scene {
+                spec: m.scene.clone(),
+                message: e.to_string(),
+            },
+        )
     }
 }
 

@@ -1,16 +1,17 @@
 //! `usar-console`: the operator console of paper 000 (§III HRI interface, §VII-B, Fig. 14) and
-//! paper 004 (§II, Fig. 12). A live simulated mission — one MAXQ semi-autonomous robot
-//! ([`usar_rescue`]), a small team exploring with S-MCDM auctions ([`usar_team`]) and a
-//! Behavioral Trace Map being built ([`usar_btm`]) — runs on its own threads and is served to
-//! browsers: plain static files embedded in the binary, snapshots over a WebSocket, control
-//! messages back.
+//! paper 004 (§II, Fig. 12). The whole mission of `usar mission run` ([`usar_mission`]) — a
+//! team exploring with S-MCDM auctions ([`usar_team`]), a crawler building a Behavioral Trace
+//! Map ([`usar_btm`]) and a MAXQ semi-autonomous robot ([`usar_rescue`]), controllers on one
+//! host and one physics — runs live on its own thread and is served to browsers: plain static
+//! files embedded in the binary, snapshots over a WebSocket, control messages back. The person
+//! at the console is the mission's operator: every hand-off waits for their answer.
 //!
-//! - [`mission`]: the mission threads, paced by one [`clock::MissionClock`] (pause, resume,
-//!   speed-up), publishing snapshots through `tokio::sync::watch` channels so that a slow viewer
-//!   only ever skips frames and never blocks the simulation;
-//! - [`operator`]: the console's side of the [`usar_rescue::operator::HandOff`] interface —
-//!   the robot's hand-offs wait for a person's answer, which the robot learns from as it does
-//!   from the simulated operator;
+//! - [`mission`]: the mission thread and what it shares with the server: frames and maps
+//!   through `tokio::sync::watch` channels, so that a slow viewer only ever skips frames and
+//!   never blocks the simulation;
+//! - [`hook`]: the console beside the mission ([`usar_mission::MissionHook`]): pacing (pause,
+//!   resume, speed-up), the person's answers at the operator's desk, teleoperation, sending a
+//!   team robot to a point, the team's hypothesis and the rescuer's weights;
 //! - [`protocol`]: every message a browser may send, parsed with serde into one typed enum;
 //!   anything else gets an error reply;
 //! - [`server`]: HTTP and WebSocket (axum), the access token, the static page; the `Host` /
@@ -32,17 +33,16 @@ pub mod bench;
 pub mod clock;
 mod config;
 mod guard;
+pub mod hook;
 mod images;
 pub mod mission;
-pub mod operator;
 pub mod protocol;
-mod scene_setup;
 pub mod server;
 mod snapshot;
-mod team_hook;
+mod view;
 
 pub use self::config::{
-    ConsoleConfig, ConsoleError, ConsoleLimits, MAX_MINUTES, MAX_TEAM_ROBOTS, MIN_OPEN_TOKEN_CHARS,
+    ConsoleConfig, ConsoleError, ConsoleLimits, MAX_TEAM_ROBOTS, MIN_OPEN_TOKEN_CHARS,
     MIN_OPEN_TOKEN_DISTINCT, MissionConfig, TOKEN_ENV, read_token_file, strong_token,
 };
 pub use self::server::{RunningConsole, serve_blocking, start};

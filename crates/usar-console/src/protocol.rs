@@ -79,12 +79,19 @@ impl ClientMessage {
     }
 
     /// Checks numbers and names beyond what the types say.
-    pub fn validate(&self) -> Result<(), String> {
-        let finite = |name: &str, v: f64| {
+    pub fn validate(&self) -> Result<(), ProtocolError> {
+        let out_of_range = |field: &'static str, found: String, expected: &'static str| {
+            Err(ProtocolError::OutOfRange {
+                field,
+                found,
+                expected,
+            })
+        };
+        let finite = |field: &'static str, v: f64| {
             if v.is_finite() {
                 Ok(())
             } else {
-                Err(format!("{name}: expected a finite number"))
+                out_of_range(field, v.to_string(), "a finite number")
             }
         };
         match self {
@@ -92,9 +99,7 @@ impl ClientMessage {
                 if factor.is_finite() && *factor > 0.0 && *factor <= 1000.0 {
                     Ok(())
                 } else {
-                    Err(format!(
-                        "speed factor: found {factor}, expected 0 < factor ≤ 1000"
-                    ))
+                    out_of_range("speed factor", factor.to_string(), "0 < factor ≤ 1000")
                 }
             }
             ClientMessage::Teleop {
@@ -104,7 +109,7 @@ impl ClientMessage {
             ClientMessage::Weights { w_l, w_p, w_q } => {
                 for (n, w) in [("w_l", w_l), ("w_p", w_p), ("w_q", w_q)] {
                     if !(w.is_finite() && (0.0..=100.0).contains(w)) {
-                        return Err(format!("{n}: found {w}, expected 0 ≤ w ≤ 100"));
+                        return out_of_range(n, w.to_string(), "0 ≤ w ≤ 100");
                     }
                 }
                 Ok(())
@@ -113,7 +118,7 @@ impl ClientMessage {
                 if usar_team::criteria::Hypothesis::named(name).is_some() {
                     Ok(())
                 } else {
-                    Err(format!("hypothesis: found {name:?}, expected big or small"))
+                    out_of_range("hypothesis", format!("{name:?}"), "big or small")
                 }
             }
             _ => Ok(()),
@@ -124,16 +129,29 @@ impl ClientMessage {
 /// The longest client message, bytes (every valid message is far shorter).
 pub const MAX_MESSAGE_BYTES: usize = 4096;
 
-/// Parses one client text: the message, or the error to reply.
-pub fn parse(text: &str) -> Result<ClientMessage, String> {
+/// Why a client text was refused (its display is the error replied).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ProtocolError {
+    #[error("message of {0} bytes, at most {MAX_MESSAGE_BYTES}")]
+    TooLong(usize),
+    /// Not JSON, or not one of the messages: serde's reason (type, field, line and column).
+    #[error("malformed message: {0}")]
+    Malformed(String),
+    #[error("{field}: found {found}, expected {expected}")]
+    OutOfRange {
+        field: &'static str,
+        found: String,
+        expected: &'static str,
+    },
+}
+
+/// Parses one client text: the message, or why it is refused.
+pub fn parse(text: &str) -> Result<ClientMessage, ProtocolError> {
     if text.len() > MAX_MESSAGE_BYTES {
-        return Err(format!(
-            "message of {} bytes, at most {MAX_MESSAGE_BYTES}",
-            text.len()
-        ));
+        return Err(ProtocolError::TooLong(text.len()));
     }
     let message: ClientMessage =
-        serde_json::from_str(text).map_err(|e| format!("malformed message: {e}"))?;
+        serde_json::from_str(text).map_err(|e| ProtocolError::Malformed(e.to_string()))?;
     message.validate()?;
     Ok(message)
 }

@@ -345,7 +345,11 @@ struct Session {
 async fn handle_text(s: &AppState, ip: IpAddr, text: &str, session: &mut Session) -> ServerMessage {
     let message = match parse(text) {
         Ok(m) => m,
-        Err(message) => return ServerMessage::Error { message },
+        Err(e) => {
+            return ServerMessage::Error {
+                message: e.to_string(),
+            };
+        }
     };
     if let ClientMessage::Auth { token } = &message {
         if let Some(wait) = s.limiter.blocked(ip) {

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 /// One robot as the console shows it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RobotView {
-    /// 0 is the MAXQ robot, 1… the team, then the BTM crawler (when a BTM is being built).
+    /// 0 is the MAXQ robot, 1… the team, then the BTM crawler (when the mission has one).
     pub id: usize,
     pub name: String,
     /// `maxq`, `team` or `btm`.
@@ -17,20 +17,21 @@ pub struct RobotView {
     pub theta: f64,
     /// `autonomous` or `operator`.
     pub mode: String,
-    /// The MAXQ subtask (NUR/NG, VI, HC₂, HC₃, exited) or the team robot's run mode
-    /// (exploring, recovering, idle, teleoperated, sent).
+    /// The MAXQ subtask (NUR/NG, VI, HC₂, HC₃, exited), the team robot's run mode
+    /// (exploring, recovering, idle, failed, teleoperated, sent) or the crawler's progress.
     pub task: String,
     /// Where it is heading, if anywhere.
     pub goal: Option<[f64; 2]>,
 }
 
-/// A possible victim met by the MAXQ robot.
+/// A possible victim: met by the MAXQ robot, or reported by a team robot to the base station.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct VictimView {
     pub id: usize,
     pub x: f64,
     pub y: f64,
-    /// `pending`, `tagged` or `dismissed`.
+    /// `pending` (undecided), `tagged` (a victim: tagged by the robot or confirmed by the
+    /// operator) or `dismissed`.
     pub status: String,
     pub probability: Option<f64>,
 }
@@ -89,11 +90,11 @@ pub struct Frame {
     pub hypothesis: String,
     pub btm_nodes: usize,
     pub btm_links: usize,
-    /// How the team's mission ended, once it has.
+    /// How the mission ended (`time limit`, `stopped`), once it has.
     pub team_finish: Option<String>,
-    /// The MAXQ robot's episodes so far (a new one starts when it exits early).
-    pub maxq_episodes: u32,
-    /// Tags the MAXQ robot's domain carried out (its own and those the operator confirmed).
+    /// Primitives the MAXQ robot's policy has chosen so far.
+    pub maxq_primitives: u64,
+    /// Tags the MAXQ robot carried out (its own and those the operator confirmed).
     pub maxq_tags: u32,
     /// Version of the latest map message.
     pub map_seq: u64,

@@ -97,9 +97,9 @@ function render() {
   }
   $("measured").textContent = f.measured_speed.toFixed(2) + "×";
   $("explored").textContent = f.explored_m2.toFixed(1) + " m² known, coverage " + (100 * f.coverage).toFixed(1) + " %" +
-    (f.team_finish ? " — team mission ended: " + f.team_finish : "");
+    (f.team_finish ? " — mission ended: " + f.team_finish : "");
   $("btm-status").textContent = "BTM: " + f.btm_nodes + " nodes, " + f.btm_links + " links; hypothesis " + f.hypothesis +
-    "; weights w_l " + f.weights[0] + ", w_p " + f.weights[1] + ", w_q " + f.weights[2] + "; MAXQ episodes " + f.maxq_episodes;
+    "; weights w_l " + f.weights[0] + ", w_p " + f.weights[1] + ", w_q " + f.weights[2] + "; MAXQ primitives " + f.maxq_primitives;
   renderRobots(f);
   renderVictims(f);
   renderHandoffs(f);

@@ -4,14 +4,16 @@ use std::time::{Duration, Instant};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use usar_console::{ConsoleConfig, Frame, MissionConfig, RunningConsole, start};
 
-/// Two team robots, a short MAXQ training, faster than real time.
+/// The built-in mission with two team robots and a short MAXQ training, faster than real
+/// time.
 pub fn small_mission() -> MissionConfig {
-    MissionConfig {
-        team_robots: 2,
-        train_trials: 100,
+    let mut config = MissionConfig {
         speed: 4.0,
         ..MissionConfig::default()
-    }
+    };
+    config.mission.team.robots = 2;
+    config.mission.rescuer.train_trials = 100;
+    config
 }
 
 pub async fn start_local(mission: MissionConfig) -> RunningConsole {

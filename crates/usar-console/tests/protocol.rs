@@ -1,6 +1,6 @@
 //! Every client text is parsed into the typed enum or refused with a reason.
 
-use usar_console::protocol::{ClientMessage, DriveCommand, parse};
+use usar_console::protocol::{ClientMessage, DriveCommand, ProtocolError, parse};
 
 #[test]
 fn valid_messages_parse_into_their_variants() {
@@ -43,8 +43,17 @@ fn malformed_and_out_of_range_messages_are_refused_with_a_reason() {
         r#"{"type":"answer_victim","handoff":1}"#,
     ] {
         let e = parse(bad).expect_err(bad);
-        assert!(!e.is_empty(), "{bad}: an empty reason");
+        assert!(!e.to_string().is_empty(), "{bad}: an empty reason");
     }
     let long = format!(r#"{{"type":"auth","token":"{}"}}"#, "x".repeat(5000));
-    assert!(parse(&long).unwrap_err().contains("4096"));
+    assert_eq!(parse(&long), Err(ProtocolError::TooLong(long.len())));
+    assert!(parse(&long).unwrap_err().to_string().contains("4096"));
+    assert_eq!(
+        parse(r#"{"type":"speed","factor":0}"#),
+        Err(ProtocolError::OutOfRange {
+            field: "speed factor",
+            found: "0".into(),
+            expected: "0 < factor ≤ 1000"
+        })
+    );
 }

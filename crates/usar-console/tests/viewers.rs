@@ -9,7 +9,7 @@ use crate::common::small_mission;
 async fn every_viewer_receives_frames_beside_bounded_connections() {
     let mut mission = small_mission();
     mission.speed = 2.0;
-    mission.btm = false;
+    mission.mission.crawler.enabled = false;
     let report = usar_console::bench::run(mission, 20, 10, 3.0)
         .await
         .expect("the bench runs");

@@ -229,9 +229,11 @@ fn load_robot_toml(bytes: &[u8]) -> Result<(), String> {
 }
 
 fn mission_toml_seeds() -> Vec<Vec<u8>> {
+    // A mission file of `usar mission run`, as the console reads it.
     vec![text(
-        "team_robots = 4\nteam_robot = \"wheeled\"\nstrategy = \"s-mcdm\"\nhypothesis = \"big\"\n\
-         speed = 2.0\ntrain_trials = 300\n",
+        "scene = \"office\"\nminutes = 5\n[team]\nrobots = 4\nrobot = \"wheeled\"\n\
+         strategy = \"s-mcdm\"\nhypothesis = \"big\"\n[crawler]\nshare_period_s = 10.0\n\
+         [rescuer]\ntrain_trials = 300\nzone_cells = 10\n[operator]\n",
     )]
 }
 

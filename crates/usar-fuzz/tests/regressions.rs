@@ -53,7 +53,7 @@ fn issue_19_inputs_are_refused() {
         b"image: m.pgm\nresolution: 1e300\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
     );
     refused("robot-toml", b"[laser]\nbeams = 100000000\n");
-    refused("mission-toml", b"train_trials = 4000000000\n");
+    refused("mission-toml", b"[rescuer]\ntrain_trials = 4000000000\n");
     refused(
         "campaign-toml",
         b"name = \"../../../x\"\nrunner = \"noop\"\n",

@@ -24,6 +24,7 @@
 pub mod board;
 pub mod config;
 pub mod controllers;
+pub mod live;
 mod mission;
 mod outcome;
 pub mod report;
@@ -33,6 +34,7 @@ mod tally;
 mod zone;
 
 pub use self::config::{CrawlerPart, MissionConfig, RescuerPart, TeamPart};
+pub use self::live::{LiveMission, MissionHook, Operator, run_mission_live};
 pub use self::mission::run_mission;
 pub use self::outcome::{
     CrawlerFigures, MissionOutcome, MissionSample, OperatorFigures, RescuerFigures, TeamFigures,

@@ -4,6 +4,7 @@
 
 use crate::board::VictimBoard;
 use crate::controllers::{SharingCrawler, TeamWithBtm};
+use crate::live::{LiveMission, MissionHook, Operator, Unwatched};
 use crate::outcome::{CrawlerFigures, MissionOutcome, MissionSample, TeamFigures};
 use crate::rescuer::Rescuer;
 use crate::{CrawlerPart, MissionConfig, MissionError};
@@ -120,6 +121,58 @@ fn crawler_part(
     )))
 }
 
+/// The largest rescuer zone side, cells (a 200 × 200-cell zone is 180 m across).
+pub const MAX_ZONE_CELLS: u32 = 200;
+
+impl MissionConfig {
+    /// Checks every value the mission reads before anything is set up or trained (the scene
+    /// is not read here): names, ranges, the robot presets or files.
+    pub fn check(&self) -> Result<(), MissionError> {
+        let team = team_config(self)?;
+        crawler_part(&self.crawler, self.minutes, team.sim.dt_s)?;
+        let r = &self.rescuer;
+        if !r.enabled {
+            return Ok(());
+        }
+        let rescuer = |field: &str, message: String| crate::rescuer::bad(field, message);
+        RobotSpec::load(&r.robot)?;
+        crate::rescuer::oracles(r)?;
+        crate::rescuer::weights(r)?;
+        if r.policy.is_empty() {
+            usar_rescue::training::check_trials(r.train_trials)
+                .map_err(|e| rescuer("train_trials", e.problem()))?;
+        }
+        if !(1..=MAX_ZONE_CELLS).contains(&r.zone_cells) {
+            return Err(rescuer(
+                "zone_cells",
+                format!("found {}, expected 1 to {MAX_ZONE_CELLS}", r.zone_cells),
+            ));
+        }
+        if r.max_primitives == 0 {
+            return Err(rescuer(
+                "max_primitives",
+                "found 0, expected at least 1".into(),
+            ));
+        }
+        if !["largest-room", "start"].contains(&r.zone.as_str()) {
+            return Err(rescuer(
+                "zone",
+                format!("found `{}`, expected largest-room or start", r.zone),
+            ));
+        }
+        if !["arena-start", "open-turnable"].contains(&r.put_down.as_str()) {
+            return Err(rescuer(
+                "put_down",
+                format!(
+                    "found `{}`, expected arena-start or open-turnable",
+                    r.put_down
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl<'a> Mission<'a> {
     /// Sets `config` up on `scene` with the team's configuration `team_config`; the crawler
     /// (robot, builder parameters, share period — kept by the caller, as the crawler borrows
@@ -131,6 +184,7 @@ impl<'a> Mission<'a> {
         seed: u64,
         crawler: Option<&'a (RobotSpec, BuildConfig, f64)>,
         store: Option<&'a BtmStore>,
+        operator: Operator,
     ) -> Result<Self, MissionError> {
         // Room for every robot: a room layer for the team's evaluation, start poses for all,
         // spaced for the widest.
@@ -222,24 +276,18 @@ impl<'a> Mission<'a> {
         let rescuer = match (rescuer_part, rescuer_spec, placed) {
             (Some(part), Some(spec), Some((zone, put_down))) => {
                 let oracles = crate::rescuer::oracles(part)?;
-                // Put down where the rescue team chose, or where the scene's start pose is when
-                // something stands there.
-                let fleet = host
-                    .add_fleet_with(&[(spec.clone(), put_down)], oracles)
-                    .or_else(|_| {
-                        host.add_fleet_with(&[(spec, scene.start_poses[rescuer_k])], oracles)
-                    })?;
+                let fleet = put_down_in_zone(&mut host, &spec, &zone, put_down, oracles)?;
                 let (policy, trials) = crate::rescuer::policy(part, seed)?;
                 let controller = crate::rescuer::controller(part, zone, policy)?;
                 Some(Rescuer::new(fleet, controller, trials))
             }
             _ => None,
         };
-        let operator = SimulatedOperator::new(config.operator.clone(), seed ^ 0x0DE5_C000);
+        let simulated = SimulatedOperator::new(config.operator.clone(), seed ^ 0x0DE5_C000);
         let dt_s = team_config.sim.dt_s;
         Ok(Self {
             rescuer,
-            desk: OperatorDesk::new(operator, view),
+            desk: crate::live::desk_for(operator, simulated, view),
             board: VictimBoard::default(),
             eval: TeamEvaluation::new(&scene, &team_config, base),
             steps: (config.minutes * 60.0 / dt_s).round() as u64,
@@ -254,9 +302,14 @@ impl<'a> Mission<'a> {
         })
     }
 
-    /// Runs to the time limit: each step every controller decides, the evaluation follows
-    /// (sampled every [`SAMPLE_PERIOD_S`]), then the world moves.
-    pub(crate) fn run(&mut self, mut on_progress: impl FnMut(f64)) -> Result<(), MissionError> {
+    /// Runs to the time limit or until `hook` ends it: each step every controller decides,
+    /// the hand-offs are exchanged, the hook looks on, the evaluation follows (sampled every
+    /// [`SAMPLE_PERIOD_S`]), then the world moves.
+    pub(crate) fn run(
+        &mut self,
+        mut on_progress: impl FnMut(f64),
+        hook: &mut dyn MissionHook,
+    ) -> Result<(), MissionError> {
         for step in 0..=self.steps {
             self.host.decide(self.team_fleet, &mut self.team);
             if let Some(c) = &mut self.crawler {
@@ -280,6 +333,9 @@ impl<'a> Mission<'a> {
                 self.host.decide(r.fleet, &mut r.controller);
             }
             self.hand_offs();
+            if !hook.after_decide(&mut LiveMission { mission: self }) {
+                break;
+            }
             self.eval.update(
                 &mut self.team.team,
                 &self.host.evaluator(),
@@ -427,6 +483,42 @@ impl<'a> Mission<'a> {
     }
 }
 
+/// Puts the rescuer down at `at`, or — when its body cannot stand there (a pile of the rubble
+/// arena, another robot) — at the centre of the zone cell nearest to it where it can, facing the
+/// same way. A zone with no such cell is the mission's error: a rescuer put down outside its
+/// zone could search nothing.
+fn put_down_in_zone(
+    host: &mut Host,
+    spec: &RobotSpec,
+    zone: &usar_world::GridGeometry,
+    at: usar_world::Pose2,
+    oracles: Oracles,
+) -> Result<FleetId, MissionError> {
+    if let Ok(fleet) = host.add_fleet_with(&[(spec.clone(), at)], oracles) {
+        return Ok(fleet);
+    }
+    let mut centres: Vec<Point2> = (0..zone.height as i32)
+        .flat_map(|r| (0..zone.width as i32).map(move |c| usar_world::Cell::new(c, r)))
+        .map(|c| zone.cell_center(c))
+        .collect();
+    centres.sort_by(|a, b| {
+        a.distance(at.position())
+            .total_cmp(&b.distance(at.position()))
+    });
+    centres
+        .into_iter()
+        .find_map(|p| {
+            let pose = usar_world::Pose2::new(p.x, p.y, at.theta);
+            host.add_fleet_with(&[(spec.clone(), pose)], oracles).ok()
+        })
+        .ok_or_else(|| {
+            bad(
+                "rescuer.zone",
+                format!("no cell of the zone is free for robot {}", spec.name),
+            )
+        })
+}
+
 /// Runs `config` on `scene` with `seed`; the crawler's map is also written to `store` when
 /// given. `on_progress` gets the simulated time now and then.
 pub fn run_mission(
@@ -436,9 +528,31 @@ pub fn run_mission(
     store: Option<&BtmStore>,
     on_progress: impl FnMut(f64),
 ) -> Result<MissionOutcome, MissionError> {
+    run(
+        scene,
+        config,
+        seed,
+        store,
+        Operator::Simulated,
+        on_progress,
+        &mut Unwatched,
+    )
+}
+
+/// [`run_mission`] with `operator` at the desk and `hook` beside it.
+pub(crate) fn run(
+    scene: Arc<Scene>,
+    config: &MissionConfig,
+    seed: u64,
+    store: Option<&BtmStore>,
+    operator: Operator,
+    on_progress: impl FnMut(f64),
+    hook: &mut dyn MissionHook,
+) -> Result<MissionOutcome, MissionError> {
+    config.check()?;
     let team = team_config(config)?;
     let crawler = crawler_part(&config.crawler, config.minutes, team.sim.dt_s)?;
-    let mut mission = Mission::new(scene, config, team, seed, crawler.as_ref(), store)?;
-    mission.run(on_progress)?;
+    let mut mission = Mission::new(scene, config, team, seed, crawler.as_ref(), store, operator)?;
+    mission.run(on_progress, hook)?;
     Ok(mission.outcome())
 }

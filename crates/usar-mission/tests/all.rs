@@ -1,3 +1,4 @@
+mod live;
 mod mission;
 mod rescuer;
 mod runner;

@@ -3,9 +3,12 @@
 //! asking while the operator is busy waits longer. While the operator drives a stuck robot its
 //! next command follows after the command time, not a fresh response.
 //!
-//! The desk stands for the person looking at the robots' cameras: it answers through a
-//! [`SimulatedOperator`] from what the camera shows, which in simulation is the scene
-//! (through the host's [`Evaluator`] and the scene's [`CellView`]). Robots never see it.
+//! The desk stands for the person looking at the robots' cameras. A simulated one
+//! ([`OperatorDesk::new`]) answers through a [`SimulatedOperator`] from what the camera shows,
+//! which in simulation is the scene (through the host's [`Evaluator`] and the scene's
+//! [`CellView`]). A real one ([`OperatorDesk::person`], the operator console) is shown the
+//! question being attended ([`OperatorDesk::attending`]) and answers it when they choose
+//! ([`OperatorDesk::respond`]). Robots never see it.
 
 use crate::controller::{Answer, Question};
 use crate::exploration::Direction;
@@ -38,13 +41,44 @@ pub struct HandOffRecord {
 /// The question the operator is answering.
 #[derive(Clone, Copy, Debug)]
 struct Attending {
+    id: u64,
     robot: usize,
     question: Question,
     asked_s: f64,
     started_s: f64,
-    due_s: f64,
-    answer: Answer,
+    /// The answer and when it is given; a person's is unknown until they give it.
+    answer: Option<(Answer, f64)>,
     was_victim: Option<bool>,
+}
+
+/// The question the operator is looking at, as a display shows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Attended {
+    /// The question's number on the desk (from 1, in the order asked).
+    pub id: u64,
+    pub robot: usize,
+    pub question: Question,
+    pub asked_s: f64,
+}
+
+/// Who answers at the desk.
+enum Attendant {
+    Simulated(SimulatedOperator),
+    /// A person, through [`OperatorDesk::respond`].
+    Person,
+}
+
+/// Why a person's answer was refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RespondError {
+    #[error("no hand-off is waiting for an answer")]
+    NothingAsked,
+    #[error("hand-off {found} is not the one being answered ({expected})")]
+    NotAttended { found: u64, expected: u64 },
+    #[error("hand-off {0} asks for {1}")]
+    WrongKind(u64, &'static str),
+    #[error("the desk's operator is simulated")]
+    Simulated,
 }
 
 /// The commands given to `robot` from one cell and heading that left it there.
@@ -67,9 +101,9 @@ pub struct Answered {
 
 /// See the [module documentation](self).
 pub struct OperatorDesk {
-    operator: SimulatedOperator,
+    attendant: Attendant,
     view: CellView,
-    queue: VecDeque<(usize, f64, Question)>,
+    queue: VecDeque<(u64, usize, f64, Question)>,
     /// The question being answered.
     current: Option<Attending>,
     /// The robot the operator drove last (its next command needs no new response).
@@ -84,8 +118,17 @@ pub struct OperatorDesk {
 impl OperatorDesk {
     /// A desk with `operator`; `view` is the scene's cell view (what cameras show).
     pub fn new(operator: SimulatedOperator, view: CellView) -> Self {
+        Self::with(Attendant::Simulated(operator), view)
+    }
+
+    /// A desk a person answers at ([`Self::respond`]).
+    pub fn person(view: CellView) -> Self {
+        Self::with(Attendant::Person, view)
+    }
+
+    fn with(attendant: Attendant, view: CellView) -> Self {
         Self {
-            operator,
+            attendant,
             view,
             queue: VecDeque::new(),
             current: None,
@@ -96,15 +139,71 @@ impl OperatorDesk {
         }
     }
 
-    /// Robot `robot` asks `question` at `now_s`.
-    pub fn ask(&mut self, robot: usize, now_s: f64, question: Question) {
+    /// Robot `robot` asks `question` at `now_s`; the question's number.
+    pub fn ask(&mut self, robot: usize, now_s: f64, question: Question) -> u64 {
         self.asked += 1;
-        self.queue.push_back((robot, now_s, question));
+        let id = self.asked as u64;
+        self.queue.push_back((id, robot, now_s, question));
+        id
     }
 
     /// Questions waiting, not counting the one being answered.
     pub fn queued(&self) -> usize {
         self.queue.len()
+    }
+
+    /// The question being answered, then those waiting, in order.
+    pub fn questions(&self) -> impl Iterator<Item = Attended> + '_ {
+        let current = self.current.map(|c| Attended {
+            id: c.id,
+            robot: c.robot,
+            question: c.question,
+            asked_s: c.asked_s,
+        });
+        current
+            .into_iter()
+            .chain(
+                self.queue
+                    .iter()
+                    .map(|&(id, robot, asked_s, question)| Attended {
+                        id,
+                        robot,
+                        question,
+                        asked_s,
+                    }),
+            )
+    }
+
+    /// The question the operator is looking at.
+    pub fn attending(&self) -> Option<Attended> {
+        self.current.and(self.questions().next())
+    }
+
+    /// A person's answer to question `id` (the one being attended) at `now_s`; it reaches the
+    /// robot through the next [`Self::answers`].
+    pub fn respond(&mut self, id: u64, answer: Answer, now_s: f64) -> Result<(), RespondError> {
+        if matches!(self.attendant, Attendant::Simulated(_)) {
+            return Err(RespondError::Simulated);
+        }
+        let current = self.current.as_mut().ok_or(RespondError::NothingAsked)?;
+        if current.id != id || current.answer.is_some() {
+            return Err(RespondError::NotAttended {
+                found: id,
+                expected: current.id,
+            });
+        }
+        match (current.question, answer) {
+            (Question::Victim { .. }, Answer::Victim(_))
+            | (Question::Drive { .. }, Answer::Drive(_)) => {}
+            (Question::Victim { .. }, Answer::Drive(_)) => {
+                return Err(RespondError::WrongKind(id, "tag or reject"));
+            }
+            (Question::Drive { .. }, Answer::Victim(_)) => {
+                return Err(RespondError::WrongKind(id, "a driving command"));
+            }
+        }
+        current.answer = Some((answer, now_s.max(current.started_s)));
+        Ok(())
     }
 
     /// The answers due by `now_s`, each to its robot.
@@ -114,28 +213,28 @@ impl OperatorDesk {
             let current = match self.current {
                 Some(c) => c,
                 None => {
-                    let Some((robot, asked_s, question)) = self.queue.pop_front() else {
+                    let Some((id, robot, asked_s, question)) = self.queue.pop_front() else {
                         break;
                     };
-                    let c = self.attend(robot, asked_s, now_s, question, truth);
+                    let c = self.attend(id, robot, asked_s, now_s, question, truth);
                     self.current = Some(c);
                     c
                 }
             };
-            if current.due_s > now_s {
+            let Some((answer, due_s)) = current.answer.filter(|&(_, due)| due <= now_s) else {
                 break;
-            }
+            };
             self.current = None;
             self.timeline.push(HandOffRecord {
                 robot: current.robot,
-                kind: match current.answer {
+                kind: match answer {
                     Answer::Victim(_) => "victim",
                     Answer::Drive(_) => "drive",
                 },
                 asked_s: current.asked_s,
                 started_s: current.started_s,
-                answered_s: current.due_s,
-                answer: match current.answer {
+                answered_s: due_s,
+                answer: match answer {
                     Answer::Victim(d) => format!("{d:?}").to_lowercase(),
                     Answer::Drive(a) => format!("{a:?}").to_lowercase(),
                 },
@@ -144,23 +243,59 @@ impl OperatorDesk {
             out.push(Answered {
                 robot: current.robot,
                 question: current.question,
-                answer: current.answer,
-                time_s: current.due_s,
+                answer,
+                time_s: due_s,
             });
         }
         out
     }
 
-    /// The operator turns to a question at `now_s`: the answer and when it is given.
+    /// The operator turns to question `id` at `now_s`: a simulated operator decides its answer
+    /// and when it is given; a person answers later.
     fn attend(
         &mut self,
+        id: u64,
         robot: usize,
         asked_s: f64,
         now_s: f64,
         question: Question,
         truth: &Evaluator<'_>,
     ) -> Attending {
-        let (delay, answer, was_victim) = match question {
+        let was_victim = match question {
+            Question::Victim { source, .. } => {
+                Some(matches!(truth.truth_of(source), Some(HeatTruth::Victim(_))))
+            }
+            Question::Drive { .. } => None,
+        };
+        // The operator is taken off the desk while it decides, and put back.
+        let answer = match std::mem::replace(&mut self.attendant, Attendant::Person) {
+            Attendant::Person => None,
+            Attendant::Simulated(mut operator) => {
+                let (delay, answer) = self.simulated_answer(&mut operator, robot, question, truth);
+                self.attendant = Attendant::Simulated(operator);
+                Some((answer, now_s + delay))
+            }
+        };
+        Attending {
+            id,
+            robot,
+            question,
+            asked_s,
+            started_s: now_s,
+            answer,
+            was_victim,
+        }
+    }
+
+    /// The simulated operator's answer to `question` from `robot`, and its delay.
+    fn simulated_answer(
+        &mut self,
+        operator: &mut SimulatedOperator,
+        robot: usize,
+        question: Question,
+        truth: &Evaluator<'_>,
+    ) -> (f64, Answer) {
+        match question {
             Question::Victim {
                 source,
                 probability,
@@ -168,45 +303,30 @@ impl OperatorDesk {
                 at,
             } => {
                 self.driving = None;
-                let delay = self.operator.response_delay_s();
-                let source = truth.truth_of(source);
+                let delay = operator.response_delay_s();
                 let cell = self.view.cell_of(at).map_or((-1, -1), |c| (c.col, c.row));
                 let request = VictimRequest {
                     cell,
                     probability,
                     size_m2,
                     // A reading the evaluator does not know is a heat source that is none.
-                    truth: source.unwrap_or(HeatTruth::Other(u32::MAX)),
+                    truth: truth.truth_of(source).unwrap_or(HeatTruth::Other(u32::MAX)),
                 };
-                let answer = Answer::Victim(self.operator.identify_victim(&request));
-                (
-                    delay,
-                    answer,
-                    Some(matches!(source, Some(HeatTruth::Victim(_)))),
-                )
+                (delay, Answer::Victim(operator.identify_victim(&request)))
             }
             Question::Drive {
                 mut request,
                 neighbours_at,
             } => {
                 let delay = if self.driving == Some(robot) {
-                    self.operator.command_time_s()
+                    operator.command_time_s()
                 } else {
-                    self.operator.response_delay_s()
+                    operator.response_delay_s()
                 };
                 self.driving = Some(robot);
                 request.camera = neighbours_at.map(|p| self.camera(p, truth));
-                (delay, Answer::Drive(self.drive(robot, &request)), None)
+                (delay, Answer::Drive(self.drive(operator, robot, &request)))
             }
-        };
-        Attending {
-            robot,
-            question,
-            asked_s,
-            started_s: now_s,
-            due_s: now_s + delay,
-            answer,
-            was_victim,
         }
     }
 
@@ -214,8 +334,13 @@ impl OperatorDesk {
     /// robot where it was: asked again from the same cell and heading, the operator gives one
     /// not tried there yet (reverse first, then the turns, then forward), as long as one is
     /// left.
-    fn drive(&mut self, robot: usize, request: &NavigationRequest) -> CellAction {
-        let wanted = self.operator.drive(request);
+    fn drive(
+        &mut self,
+        operator: &mut SimulatedOperator,
+        robot: usize,
+        request: &NavigationRequest,
+    ) -> CellAction {
+        let wanted = operator.drive(request);
         let here = Tried {
             robot,
             cell: request.cell,

@@ -128,6 +128,14 @@ pub fn region_of(dx: i32, dy: i32) -> Option<Direction> {
 
 /// The coefficients of eq. 8–10 with their weights (Table II).
 ///
+/// Table II's cases: name and (w_l, w_p, w_q).
+const TABLE_II: [(&str, [f64; 3]); 4] = [
+    ("terrain", [HIGH_WEIGHT, 1.0, 1.0]),
+    ("neighbour", [1.0, HIGH_WEIGHT, 1.0]),
+    ("travel", [1.0, 1.0, HIGH_WEIGHT]),
+    ("equal", [1.0, 1.0, 1.0]),
+];
+
 /// `terrain` = w_l·(l₁, l₂, l₃) for an open unvisited cell, an unvisited climbable obstacle and
 /// an unknown obstacle (1 elsewhere); `neighbour` = w_p·(p₁, p₂, p₃, p₄) for a neighbouring
 /// cell that is unknown, open unvisited, unvisited climbable, an unknown obstacle (0 elsewhere;
@@ -168,17 +176,17 @@ impl ExplorationWeights {
 
     /// Table II, simulations 1–4: terrain-, neighbour-, travel-weighted and equal weights.
     pub fn table_ii() -> [ExplorationWeights; 4] {
-        [
-            Self::weighted("terrain", HIGH_WEIGHT, 1.0, 1.0),
-            Self::weighted("neighbour", 1.0, HIGH_WEIGHT, 1.0),
-            Self::weighted("travel", 1.0, 1.0, HIGH_WEIGHT),
-            Self::weighted("equal", 1.0, 1.0, 1.0),
-        ]
+        TABLE_II.map(|(name, [w_l, w_p, w_q])| Self::weighted(name, w_l, w_p, w_q))
     }
 
     /// A Table II case by name (`terrain`, `neighbour`, `travel`, `equal`).
     pub fn named(name: &str) -> Option<ExplorationWeights> {
         Self::table_ii().into_iter().find(|w| w.name == name)
+    }
+
+    /// The weights (w_l, w_p, w_q) of a Table II case by name.
+    pub fn named_factors(name: &str) -> Option<[f64; 3]> {
+        TABLE_II.iter().find(|(n, _)| *n == name).map(|&(_, w)| w)
     }
 
     /// ω (eq. 8).

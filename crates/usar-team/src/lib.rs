@@ -38,8 +38,8 @@ pub use self::config::{
     Exploration, Localization, Radio, RobotFailure, Semantics, Strategy, TeamConfig, Timing,
 };
 pub use self::mission::{
-    Allocate, Auction, ConfigError, MissionError, MissionHook, NearestFrontier, TeamController,
-    TeamEvaluation, TeamMission, VictimReport,
+    Allocate, Auction, ConfigError, MissionError, NearestFrontier, TeamController, TeamEvaluation,
+    TeamMission, VictimReport,
 };
 pub use self::outcome::{Allocation, Finish, RobotOutcome, Sample, TeamOutcome, VictimSighting};
 

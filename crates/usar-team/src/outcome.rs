@@ -19,8 +19,6 @@ pub enum Finish {
     Stalled,
     /// The simulated time ran out.
     TimeLimit,
-    /// A live controller ended it ([`crate::MissionHook::after_step`]).
-    Stopped,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -2,15 +2,16 @@
 //! `usar console bench`: many viewers against it.
 
 use crate::cli::ImageArgs;
-use crate::failure::{CmdResult, bad_input};
+use crate::failure::{CmdResult, Failure, bad_input};
 use crate::scene_source;
 use clap::{Args, Subcommand};
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use usar_console::{ConsoleConfig, ConsoleLimits, MissionConfig, TOKEN_ENV};
+use usar_console::{ConsoleConfig, ConsoleError, ConsoleLimits, MissionConfig, TOKEN_ENV};
 
-/// Start a live simulated mission and serve the operator console to a browser: a MAXQ
-/// semi-autonomous robot that hands off to you, a team exploring with S-MCDM, a BTM being built.
+/// Run the whole mission live and serve the operator console to a browser: a team exploring
+/// with S-MCDM, a crawler building a BTM and a MAXQ semi-autonomous robot on one simulator,
+/// with you as their operator (every hand-off waits for your answer).
 #[derive(Debug, Args)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct ConsoleArgs {
@@ -29,18 +30,21 @@ pub enum ConsoleCommand {
 
 #[derive(Debug, Args)]
 pub struct ConsoleServeArgs {
-    /// The scene (file or generator name); default: a generated rubble floor.
+    /// The scene (file or generator name); default: the mission file's (the built-in
+    /// mission: the generated office floor).
     #[arg(long)]
     pub scene: Option<String>,
-    /// Seed of the generated scene and of every random stream.
-    #[arg(long)]
-    pub seed: Option<u64>,
-    /// A mission file (TOML: team_robots, team_robot, strategy, hypothesis, speed, train_trials,
-    /// floor_cell_m2, …; see the crate usar-console, `MissionConfig`). Unknown fields and
-    /// out-of-range values (e.g. train_trials above 1 000 000, team_robots above 32) are refused
-    /// before anything starts.
+    /// Seed of every random stream of the run.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// A mission file, as `usar mission run` reads it (docs/mission-format.md: scene, minutes,
+    /// [team], [crawler], [rescuer]; its [operator] is you). Unknown fields and out-of-range
+    /// values are refused before anything starts.
     #[arg(long)]
     pub mission: Option<PathBuf>,
+    /// Simulated minutes (default: the mission file's).
+    #[arg(long)]
+    pub minutes: Option<f64>,
     /// Where to listen (ADDRESS:PORT). A non-loopback address needs an access token of at least
     /// 24 characters with at least 10 different ones (--token-file, USAR_CONSOLE_TOKEN or
     /// --token).
@@ -65,12 +69,13 @@ pub struct ConsoleServeArgs {
     /// wrong tokens within a minute is refused for the rest of it.
     #[arg(long, default_value_t = ConsoleLimits::default().max_connections)]
     pub max_connections: usize,
-    /// A MAXQ policy file (`usar maxq train`); default: a short training at start.
+    /// A MAXQ policy file for the rescuer (`usar maxq train`); default: the mission file's, or
+    /// a short training at start.
     #[arg(long)]
     pub policy: Option<PathBuf>,
     /// Simulated seconds per wall-clock second.
-    #[arg(long)]
-    pub speed: Option<f64>,
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
     #[command(flatten)]
     pub image: ImageArgs,
 }
@@ -101,9 +106,14 @@ pub struct ConsoleBenchArgs {
 
 fn mission_config(path: Option<&PathBuf>) -> CmdResult<MissionConfig> {
     match path {
-        Some(p) => MissionConfig::from_file(p).map_err(bad_input),
+        Some(p) => MissionConfig::from_file(p).map_err(failure),
         None => Ok(MissionConfig::default()),
     }
+}
+
+/// A console error as the command reports it: bad input (exit 2) unless the machine failed.
+fn failure(e: ConsoleError) -> Failure {
+    if e.is_input() { bad_input(e) } else { e.into() }
 }
 
 pub fn run(args: ConsoleArgs) -> CmdResult {
@@ -115,19 +125,20 @@ pub fn run(args: ConsoleArgs) -> CmdResult {
 
 fn serve(args: ConsoleServeArgs) -> CmdResult {
     let mut mission = mission_config(args.mission.as_ref())?;
-    if let Some(seed) = args.seed {
-        mission.seed = seed;
-    }
-    if let Some(speed) = args.speed {
-        mission.speed = speed;
+    mission.seed = args.seed;
+    mission.speed = args.speed;
+    let m = &mut mission.mission;
+    if let Some(minutes) = args.minutes {
+        m.minutes = minutes;
     }
     if let Some(policy) = args.policy {
-        mission.policy = Some(policy);
+        m.rescuer.policy = policy.display().to_string();
     }
-    if let Some(spec) = &args.scene {
-        mission.scene = Some(scene_source::load(spec, mission.seed, &args.image)?);
+    if let Some(spec) = args.scene {
+        m.scene = spec;
     }
-    mission.validate().map_err(bad_input)?;
+    mission.scene = Some(scene_source::load(&m.scene, m.scene_seed, &args.image)?);
+    mission.validate().map_err(failure)?;
     let bind: SocketAddr = args.bind.parse().map_err(|e| {
         bad_input(anyhow::anyhow!(
             "--bind {}: {e}; expected ADDRESS:PORT, e.g. 127.0.0.1:8080",
@@ -160,7 +171,7 @@ fn serve(args: ConsoleServeArgs) -> CmdResult {
             println!("(Ctrl-C to stop)");
         }
     })
-    .map_err(bad_input)
+    .map_err(failure)
 }
 
 /// The access token and where it came from: --token, --token-file, or USAR_CONSOLE_TOKEN
@@ -191,7 +202,7 @@ fn access_token(
 fn bench(args: ConsoleBenchArgs) -> CmdResult {
     let mut mission = mission_config(args.mission.as_ref())?;
     mission.speed = args.speed;
-    mission.validate().map_err(bad_input)?;
+    mission.validate().map_err(failure)?;
     if args.viewers + args.connections == 0
         || args.viewers > 10_000
         || args.connections > 10_000
@@ -203,7 +214,7 @@ fn bench(args: ConsoleBenchArgs) -> CmdResult {
     }
     let report =
         usar_console::bench::run_blocking(mission, args.viewers, args.connections, args.seconds)
-            .map_err(bad_input)?;
+            .map_err(failure)?;
     if args.json {
         return super::print_json(&report);
     }

@@ -69,9 +69,18 @@ impl Default for SegmentationParams {
     }
 }
 
+/// A segmentation parameter out of range: which, what it held, what it takes.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{field}: found {found}, expected {expected}")]
+pub struct ParamError {
+    pub field: &'static str,
+    pub found: String,
+    pub expected: &'static str,
+}
+
 impl SegmentationParams {
     /// Every length and area positive and finite, κ in (0, 1], at least one neighbour.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), ParamError> {
         let positive = [
             ("min_region_area_m2", self.min_region_area_m2),
             ("max_door_width_m", self.max_door_width_m),
@@ -87,17 +96,26 @@ impl SegmentationParams {
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name}: found {v}, expected a positive number"));
+                return Err(ParamError {
+                    field: name,
+                    found: v.to_string(),
+                    expected: "a positive number",
+                });
             }
         }
         if !(self.door_ratio > 0.0 && self.door_ratio <= 1.0) {
-            return Err(format!(
-                "door_ratio: found {}, expected a fraction in (0, 1]",
-                self.door_ratio
-            ));
+            return Err(ParamError {
+                field: "door_ratio",
+                found: self.door_ratio.to_string(),
+                expected: "a fraction in (0, 1]",
+            });
         }
         if self.corridor_min_neighbours == 0 {
-            return Err("corridor_min_neighbours: found 0, expected at least 1".into());
+            return Err(ParamError {
+                field: "corridor_min_neighbours",
+                found: "0".into(),
+                expected: "at least 1",
+            });
         }
         Ok(())
     }

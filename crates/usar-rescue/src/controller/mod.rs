@@ -161,6 +161,15 @@ impl RescueController {
         self.mind.as_ref().map(|(a, _)| a)
     }
 
+    /// Replaces its exploration weights (paper 000 §V's w_l, w_p, w_q) while it runs: a person
+    /// tuning it live at the console.
+    pub fn set_exploration_weights(&mut self, weights: ExplorationWeights) {
+        if let Some((agent, _)) = &mut self.mind {
+            agent.set_exploration_weights(weights.clone());
+        }
+        self.weights = weights;
+    }
+
     /// The zone's cells.
     pub fn zone(&self) -> &GridGeometry {
         &self.zone

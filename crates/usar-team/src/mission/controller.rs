@@ -256,6 +256,35 @@ impl TeamController {
         self.base.keep_out(a, b, radius_m);
     }
 
+    /// Where robot `robot` believes it is (its true pose under the localization oracle).
+    pub fn pose(&self, robot: usize) -> Option<Pose2> {
+        self.agents.get(robot).map(|a| a.pose)
+    }
+
+    /// Robot `robot`'s goal: the end of the path it follows.
+    pub fn robot_goal(&self, robot: usize) -> Option<Point2> {
+        self.agents.get(robot).and_then(|a| a.follower.goal())
+    }
+
+    /// Whether robot `robot` is backing out of a contact (a recovery manoeuvre).
+    pub fn is_recovering(&self, robot: usize) -> bool {
+        self.agents
+            .get(robot)
+            .is_some_and(|a| a.recovery.is_active())
+    }
+
+    /// Replaces the relevance hypothesis of the auctions (paper 002 §4.1) while the team runs
+    /// (an operator changing it at the console); the evaluation's relevant area keeps the
+    /// hypothesis the mission started with.
+    pub fn set_hypothesis(&mut self, hypothesis: crate::criteria::Hypothesis) {
+        self.config.exploration.hypothesis = hypothesis;
+    }
+
+    /// The semantic map the team bids with (the oracle's or its own segmentation).
+    pub fn semantic_map(&self) -> &SemanticMap {
+        &self.semantic
+    }
+
     /// Each robot's trajectory (its believed position once per simulated second).
     pub fn trajectories(&self) -> Vec<&[Point2]> {
         self.agents

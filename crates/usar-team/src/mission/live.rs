@@ -1,17 +1,13 @@
-//! The mission loop: the team decides, a live hook may steer, the world moves; after every
-//! step the evaluator follows the team's merged map and victim reports, samples the metrics
-//! and stops the run when a stop rule of the experiment says so.
+//! The mission loop: the team decides, the world moves; after every step the evaluator
+//! follows the team's merged map and victim reports, samples the metrics and stops the run
+//! when a stop rule of the experiment says so.
 
 use super::controller::Finishing;
 use super::*;
 
 impl TeamMission {
-    /// [`TeamMission::run`] with a live controller beside it (see [`MissionHook`]).
-    pub fn run_live(
-        mut self,
-        mut on_progress: impl FnMut(f64),
-        hook: &mut dyn MissionHook,
-    ) -> TeamOutcome {
+    /// Runs the mission to its end; `on_progress` gets the simulated time now and then.
+    pub fn run(mut self, mut on_progress: impl FnMut(f64)) -> TeamOutcome {
         let dt = self.config.sim.dt_s;
         let steps = (self.config.duration_s / dt).round() as u64;
         let mut finish = Finish::TimeLimit;
@@ -50,17 +46,8 @@ impl TeamMission {
             if finish != Finish::TimeLimit || step >= steps {
                 break;
             }
-            for k in 0..self.team.agents.len() {
-                let id = self.host.fleet(self.fleet)[k];
-                let planned = self.host.command(id);
-                self.host.override_command(id, hook.command(k, planned));
-            }
             self.host.advance();
             step += 1;
-            if !hook.after_step(&mut self) {
-                finish = Finish::Stopped;
-                break;
-            }
         }
         self.host.decide(self.fleet, &mut Finishing(&mut self.team));
         self.evaluate();

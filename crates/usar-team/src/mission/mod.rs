@@ -75,25 +75,6 @@ pub enum MissionError {
     LabelErrors(#[from] crate::semantic_map::LabelErrorsError),
 }
 
-/// A live controller beside a running mission (the operator console): it may replace any
-/// robot's velocity command (teleoperation) and, after every simulation step, look at the
-/// mission, change it through its public methods, pace it, or end it.
-pub trait MissionHook {
-    /// The command robot `robot` gets this step; `planned` is the mission's own.
-    fn command(&mut self, _robot: usize, planned: Velocity) -> Velocity {
-        planned
-    }
-    /// Called after every simulation step; `false` ends the mission ([`Finish::Stopped`]).
-    fn after_step(&mut self, _mission: &mut TeamMission) -> bool {
-        true
-    }
-}
-
-/// The hook of a mission nobody watches.
-struct NoHook;
-
-impl MissionHook for NoHook {}
-
 /// A team mission: the host with the team's robots, the team controller, and the evaluation.
 pub struct TeamMission {
     config: TeamConfig,
@@ -226,29 +207,6 @@ impl TeamMission {
     }
 
     /// Runs the mission to its end; `on_progress` gets the simulated time now and then.
-    pub fn run(self, on_progress: impl FnMut(f64)) -> TeamOutcome {
-        self.run_live(on_progress, &mut NoHook)
-    }
-
-    /// The robots' current goals (the end of the path each follows), by robot index.
-    pub fn robot_goal(&self, robot: usize) -> Option<Point2> {
-        self.team.agents.get(robot).and_then(|a| a.follower.goal())
-    }
-
-    /// Whether robot `robot` is backing out of a contact (a recovery manoeuvre).
-    pub fn is_recovering(&self, robot: usize) -> bool {
-        self.team
-            .agents
-            .get(robot)
-            .is_some_and(|a| a.recovery.is_active())
-    }
-
-    /// Replaces the relevance hypothesis of the auctions (paper 002 §4.1) while the mission
-    /// runs; the relevant-area measure keeps the hypothesis the mission started with.
-    pub fn set_hypothesis(&mut self, hypothesis: crate::criteria::Hypothesis) {
-        self.team.config.exploration.hypothesis = hypothesis;
-    }
-
     fn outcome(self, finish: Finish) -> TeamOutcome {
         let truth = self.host.evaluator();
         let scene = truth.scene();
