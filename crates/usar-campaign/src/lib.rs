@@ -13,6 +13,7 @@ pub mod export;
 pub mod lock;
 pub mod report;
 pub mod runner;
+pub mod slurm;
 pub mod stats;
 pub mod store;
 

@@ -336,6 +336,52 @@ pub enum CampaignCommand {
     Export(CampaignExportArgs),
     /// List the built-in presets and the runners with their factors and metrics.
     List(CampaignListArgs),
+    /// Write a SLURM job array for a campaign into DIR/slurm/ (and submit it with --submit):
+    /// task K runs shard K of N into DIR/shards/K (a database of its own: SQLite is not safe on
+    /// network file systems); a job depending on the array merges them into DIR/merged and
+    /// writes its report. Submitting again resumes: finished runs are skipped.
+    Slurm(CampaignSlurmArgs),
+    /// Where a SLURM submission stands: each shard done, running, partial or missing, and
+    /// whether DIR/merged holds the whole design.
+    Status(CampaignStatusArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignSlurmArgs {
+    /// The campaign file (TOML); or use --preset.
+    #[arg(required_unless_present = "preset", conflicts_with = "preset")]
+    pub file: Option<PathBuf>,
+    /// A built-in campaign (see `usar campaign list`).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Result folder, on a file system every node sees.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Array tasks (shards), 1 to 1000.
+    #[arg(long)]
+    pub tasks: u64,
+    /// `#SBATCH --partition`.
+    #[arg(long)]
+    pub partition: Option<String>,
+    /// `#SBATCH --time` of each task, e.g. 02:00:00.
+    #[arg(long)]
+    pub time: Option<String>,
+    /// `#SBATCH --cpus-per-task`: parallel runs within a task.
+    #[arg(long, default_value_t = 1)]
+    pub cpus_per_task: u32,
+    /// Submit with `sbatch` (the array, then the merge with --dependency=afterok).
+    #[arg(long)]
+    pub submit: bool,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct CampaignStatusArgs {
+    /// A folder written by `usar campaign slurm`.
+    pub dir: PathBuf,
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Args)]

@@ -354,3 +354,82 @@ fn a_campaign_name_that_is_not_a_plain_folder_name_is_refused() {
         );
     }
 }
+
+#[test]
+fn slurm_scripts_run_each_shard_into_its_own_folder_and_status_follows_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("tt");
+    let dir = out.to_str().unwrap();
+    let o = usar(&[
+        "campaign", "slurm", "--preset", "smoke", "--out", dir, "--tasks", "3", "--time",
+        "00:10:00", "--json",
+    ]);
+    ok(&o);
+    let array = std::fs::read_to_string(out.join("slurm/array.sbatch")).unwrap();
+    assert!(array.contains("#SBATCH --array=1-3"), "{array}");
+    assert!(array.contains("#SBATCH --time=00:10:00"), "{array}");
+    assert!(
+        array.contains("--shard \"${SLURM_ARRAY_TASK_ID}/3\""),
+        "{array}"
+    );
+    let merge = std::fs::read_to_string(out.join("slurm/merge.sbatch")).unwrap();
+    assert!(merge.contains("campaign merge"), "{merge}");
+    let submit = std::fs::read_to_string(out.join("slurm/submit.sh")).unwrap();
+    assert!(submit.contains("--dependency=afterok"), "{submit}");
+    // Nothing run yet: every shard missing. Shard 2 run by hand (as its task would): done.
+    let status = |o: &std::process::Output| -> serde_json::Value {
+        ok(o);
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let s = status(&usar(&["campaign", "status", dir, "--json"]));
+    assert!(
+        s["shards"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|x| x["state"] == "missing"),
+        "{s}"
+    );
+    let shard2 = out.join("shards/2");
+    ok(&usar(&[
+        "campaign",
+        "run",
+        "--preset",
+        "smoke",
+        "--shard",
+        "2/3",
+        "--out",
+        shard2.to_str().unwrap(),
+        "--json",
+    ]));
+    let s = status(&usar(&["campaign", "status", dir, "--json"]));
+    let states: Vec<&str> = s["shards"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x["state"].as_str().unwrap())
+        .collect();
+    assert_eq!(states, ["missing", "done", "missing"], "{s}");
+    assert_eq!(s["merged"], false);
+    // The same folder for another task count is refused; so are values that could break a
+    // script's lines, and a task count out of range.
+    assert_bad_input(
+        &usar(&[
+            "campaign", "slurm", "--preset", "smoke", "--out", dir, "--tasks", "4",
+        ]),
+        "expected a new --out folder",
+    );
+    let other = tmp.path().join("other");
+    let other = other.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["--tasks", "0"], "--tasks 0"),
+        (vec!["--tasks", "2", "--time", "1:00\nrm -rf /"], "--time"),
+        (vec!["--tasks", "2", "--partition", "a b"], "--partition"),
+    ] {
+        let mut all = vec!["campaign", "slurm", "--preset", "smoke", "--out", other];
+        all.extend(args);
+        assert_bad_input(&usar(&all), needle);
+    }
+    assert!(!tmp.path().join("other/slurm").exists());
+    assert_bad_input(&usar(&["campaign", "status", other]), "usar campaign slurm");
+}

@@ -1,4 +1,4 @@
-//! `usar campaign`: run, merge, report, export, list.
+//! `usar campaign`: run, merge, report, export, list (slurm and status: [`super::slurm`]).
 
 use super::print_json;
 use crate::cli::{
@@ -8,12 +8,12 @@ use crate::cli::{
 use crate::failure::{CmdResult, Failure, bad_input};
 use crate::{progress, runners};
 use serde_json::json;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use usar_campaign::design::{Summary, runner_named, summarize};
 use usar_campaign::{CampaignError, Design, Shard, Store, export, report};
 
 /// Campaign errors keep their kind: bad input exits 2, anything else 1.
-fn fail(e: CampaignError) -> Failure {
+pub(crate) fn fail(e: CampaignError) -> Failure {
     if e.is_input() {
         bad_input(e)
     } else {
@@ -28,11 +28,17 @@ pub fn run(cmd: CampaignCommand) -> CmdResult {
         CampaignCommand::Report(args) => report(args),
         CampaignCommand::Export(args) => export(args),
         CampaignCommand::List(args) => list(args),
+        CampaignCommand::Slurm(args) => super::slurm::write(args),
+        CampaignCommand::Status(args) => super::slurm::status(args),
     }
 }
 
-fn load_design(args: &CampaignRunArgs) -> CmdResult<Design> {
-    let (text, source) = match (&args.preset, &args.file) {
+/// The design of a campaign file or preset, and its text.
+pub(crate) fn load_design(
+    preset: Option<&String>,
+    file: Option<&PathBuf>,
+) -> CmdResult<(Design, String)> {
+    let (text, source) = match (preset, file) {
         (Some(name), _) => {
             let text = runners::PRESETS
                 .iter()
@@ -59,12 +65,13 @@ fn load_design(args: &CampaignRunArgs) -> CmdResult<Design> {
         }
     };
     let runner = runner_named(&text, &source, runners::named).map_err(fail)?;
-    Design::parse(&text, &source, runner).map_err(fail)
+    let design = Design::parse(&text, &source, runner).map_err(fail)?;
+    Ok((design, text))
 }
 
 fn run_campaign(args: CampaignRunArgs) -> CmdResult {
     let shard = Shard::parse(&args.shard).map_err(|e| bad_input(anyhow::anyhow!(e)))?;
-    let design = load_design(&args)?;
+    let (design, _) = load_design(args.preset.as_ref(), args.file.as_ref())?;
     let runner = runners::named(&design.campaign.runner).expect("checked by load_design");
     let out = args
         .out

@@ -12,6 +12,7 @@ mod mission;
 mod plan;
 mod scene;
 mod segment;
+mod slurm;
 mod team;
 
 use crate::cli::{Cli, Command};
