@@ -4,6 +4,8 @@
 //! [`BenchReport`] (serialisable; its [`Display`](std::fmt::Display) is the table `usar bench`
 //! prints).
 
+pub mod scaling;
+
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;

@@ -36,3 +36,19 @@ fn laser_rate_is_positive() {
     let scene = generate(SceneKind::Rubble, 1);
     assert!(usar_bench::laser_scans_per_s(&scene, 1, 50) > 0.0);
 }
+
+#[test]
+fn a_scaling_cell_runs_the_team_it_names_for_the_time_asked() {
+    use usar_bench::scaling::{PIPELINES, scaling};
+    let mut seen = 0;
+    let report = scaling(&[3], &PIPELINES, 5.0, |_| seen += 1).unwrap();
+    assert_eq!(seen, 2);
+    assert!(report.floor.starts_with("mall"));
+    for (row, pipeline) in report.rows.iter().zip(PIPELINES) {
+        assert_eq!((row.pipeline.as_str(), row.robots), (pipeline, 3));
+        // The run's simulated time is the time asked (paper 002's step of 0.1 s).
+        assert!((row.simulated_s - 5.0).abs() < 0.11, "{row:?}");
+        assert!(row.realtime_factor > 0.0 && row.robot_s_per_s > 0.0);
+        assert!((row.robot_s_per_s - 3.0 * row.realtime_factor).abs() < 1e-6 * row.robot_s_per_s);
+    }
+}

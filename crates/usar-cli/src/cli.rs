@@ -787,6 +787,21 @@ pub struct BenchArgs {
     /// Fewer repetitions (a quick look, noisier).
     #[arg(long)]
     pub quick: bool,
+    /// Instead: the scaling table — simulated ÷ wall time and peak memory of teams of 1, 8,
+    /// 32, 128 and 512 robots on the mall floor, for the simulator with mapping and the
+    /// nearest-frontier explorer and for paper 002's S-MCDM + MRv1 team, one core.
+    #[arg(long)]
+    pub scaling: bool,
+    /// Simulated seconds of each scaling run.
+    #[arg(long, default_value_t = 60.0, requires = "scaling")]
+    pub scaling_seconds: f64,
+    /// Team sizes of the scaling table (comma-separated).
+    #[arg(long, value_delimiter = ',', default_values_t = usar_bench::scaling::SIZES, requires = "scaling")]
+    pub sizes: Vec<usize>,
+    /// Only this pipeline (`nearest` or `s-mcdm-mrv1`), in this process: one cell of the table
+    /// (the whole table runs each cell in a process of its own, for its peak memory).
+    #[arg(long, requires = "scaling")]
+    pub pipeline: Option<String>,
     /// Print one JSON object with every figure.
     #[arg(long)]
     pub json: bool,

@@ -110,6 +110,8 @@ pub struct SimRobot {
     noise: NoiseStreams,
     blocked: Arc<Grid<bool>>,
     laser: Arc<LaserModel>,
+    /// Its circumscribed radius (the broad test of robot-robot contact).
+    radius_m: f64,
 }
 
 impl SimRobot {
@@ -222,6 +224,7 @@ impl Simulation {
         let id = RobotId(self.robots.len());
         let blocked = self.blocked_for(&spec);
         let laser = Arc::new(LaserModel::new(spec.laser.clone()));
+        let radius_m = spec.circumscribed_radius_m();
         let robot = SimRobot {
             id,
             spec: Arc::new(spec),
@@ -236,6 +239,7 @@ impl Simulation {
             noise: NoiseStreams::new(derive_seed(self.seed, id.0 as u64)),
             blocked,
             laser,
+            radius_m,
         };
         if !self.pose_is_free(&robot, pose) {
             return Err(PlacementError::NotFree {
@@ -267,7 +271,7 @@ impl Simulation {
             && self
                 .robots
                 .iter()
-                .any(|o| o.id != robot.id && rectangles_overlap(pose, &robot.spec, o.pose, &o.spec))
+                .any(|o| o.id != robot.id && rectangles_overlap((pose, robot), (o.pose, o)))
     }
 
     fn pose_is_free(&self, robot: &SimRobot, pose: Pose2) -> bool {
@@ -426,9 +430,10 @@ impl Simulation {
 }
 
 /// Separating-axis test of two robots' footprint rectangles.
-fn rectangles_overlap(a: Pose2, sa: &RobotSpec, b: Pose2, sb: &RobotSpec) -> bool {
+fn rectangles_overlap((a, ra): (Pose2, &SimRobot), (b, rb): (Pose2, &SimRobot)) -> bool {
+    let (sa, sb) = (&*ra.spec, &*rb.spec);
     let (dx, dy) = (b.x - a.x, b.y - a.y);
-    let reach = sa.circumscribed_radius_m() + sb.circumscribed_radius_m();
+    let reach = ra.radius_m + rb.radius_m;
     if dx * dx + dy * dy > reach * reach {
         return false;
     }

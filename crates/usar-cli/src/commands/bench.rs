@@ -2,10 +2,13 @@
 
 use super::print_json;
 use crate::cli::BenchArgs;
-use crate::failure::CmdResult;
+use crate::failure::{CmdResult, bad_input};
 use crate::progress;
 
 pub fn run(args: BenchArgs) -> CmdResult {
+    if args.scaling {
+        return scaling(&args);
+    }
     let bar = progress::bar(usar_bench::STAGES, "benchmarking", args.json);
     let report = usar_bench::run_observed(args.quick, || bar.inc(1))?;
     bar.finish_and_clear();
@@ -15,4 +18,74 @@ pub fn run(args: BenchArgs) -> CmdResult {
         println!("{report}");
         Ok(())
     }
+}
+
+fn scaling(args: &BenchArgs) -> CmdResult {
+    use usar_bench::scaling::{PIPELINES, ScalingReport, ScalingRow, scaling};
+    if !(args.scaling_seconds.is_finite() && (1.0..=3600.0).contains(&args.scaling_seconds))
+        || args.sizes.iter().any(|&n| !(1..=4096).contains(&n))
+    {
+        return Err(bad_input(anyhow::anyhow!(
+            "--scaling-seconds: 1 to 3600; --sizes: 1 to 4096 robots each"
+        )));
+    }
+    if let Some(name) = &args.pipeline {
+        // One cell (or a column) in this process.
+        let pipeline = PIPELINES.iter().find(|p| **p == name).ok_or_else(|| {
+            bad_input(anyhow::anyhow!(
+                "--pipeline {name}: expected {}",
+                PIPELINES.join(" or ")
+            ))
+        })?;
+        let report = scaling(&args.sizes, &[pipeline], args.scaling_seconds, |_| {})?;
+        return print_json(&report);
+    }
+    // Each cell in a process of its own: its peak memory is its own.
+    let bar = progress::bar(
+        (args.sizes.len() * PIPELINES.len()) as u64,
+        "scaling",
+        args.json,
+    );
+    let mut rows: Vec<ScalingRow> = Vec::new();
+    let mut floor = String::new();
+    for &n in &args.sizes {
+        for pipeline in PIPELINES {
+            let out = std::process::Command::new(std::env::current_exe()?)
+                .args(["bench", "--scaling", "--json", "--pipeline", pipeline])
+                .arg(format!("--sizes={n}"))
+                .arg(format!("--scaling-seconds={}", args.scaling_seconds))
+                .stderr(std::process::Stdio::inherit())
+                .output()?;
+            if !out.status.success() {
+                return Err(
+                    anyhow::anyhow!("the scaling run of {n} robots ({pipeline}) failed").into(),
+                );
+            }
+            let cell: ScalingReport = serde_json::from_slice(&out.stdout)?;
+            floor = cell.floor;
+            rows.extend(cell.rows);
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    let report = ScalingReport { floor, rows };
+    if args.json {
+        return print_json(&report);
+    }
+    println!(
+        "{}, {} simulated s per run, one core, each run in a process of its own",
+        report.floor, args.scaling_seconds
+    );
+    println!("pipeline      robots  real-time factor  robot-s/s   peak RSS");
+    for r in &report.rows {
+        println!(
+            "{:<13} {:>6}  {:>16.1}  {:>9.0}  {}",
+            r.pipeline,
+            r.robots,
+            r.realtime_factor,
+            r.robot_s_per_s,
+            r.peak_rss_mib.map_or("-".into(), |m| format!("{m:.0} MiB"))
+        );
+    }
+    Ok(())
 }

@@ -2,6 +2,7 @@
 //! baseline here, paper 002's auction in `auction.rs` — with what both share: going idle
 //! (retracing once) and planning the path driven on the map.
 
+use super::discs::RobotDiscs;
 use super::driving::retrace;
 use super::*;
 
@@ -54,26 +55,31 @@ impl TeamController {
             .filter_map(|i| self.agents[i].target)
             .collect();
         let clearance = self.config.robot.circumscribed_radius_m() * 2.0;
+        // The alive robots' discs, closed once for the round on both grids.
+        let alive: Vec<Point2> = self
+            .agents
+            .iter()
+            .filter(|a| a.alive)
+            .map(|a| a.pose.position())
+            .collect();
+        let discs =
+            [0, 1].map(|k| RobotDiscs::close(&mut self.base.nav_grids[k], &alive, clearance));
         let mut costs = Vec::with_capacity(who.len());
         for &i in who {
             let pose = self.agents[i].pose;
-            let others: Vec<Point2> = self
-                .agents
-                .iter()
-                .enumerate()
-                .filter(|&(j, a)| j != i && a.alive)
-                .map(|(_, a)| a.pose.position())
-                .collect();
+            let is_alive = self.agents[i].alive;
             self.agents[i].blacklist.retain(|&(_, until)| until > now);
             let mut row = Vec::new();
             // Plan with the full radius from the nearest navigable cell; if nothing is reachable,
             // squeeze with the tight radius; last, start from every navigable cell nearby.
-            for (grid, all_sources) in [(0, false), (1, false), (1, true)] {
-                let grid = &mut self.base.nav_grids[grid];
-                let mut closed = Vec::new();
-                for &p in &others {
-                    block_disc(grid, p, clearance, &mut closed);
-                }
+            for (k, all_sources) in [(0, false), (1, false), (1, true)] {
+                let grid = &mut self.base.nav_grids[k];
+                // Every other robot's disc stays closed; its own is open.
+                let own = if is_alive {
+                    discs[k].open_own(grid, pose.position())
+                } else {
+                    Vec::new()
+                };
                 let sources = source_cells(&self.base.merged, grid, pose.position(), all_sources);
                 let was_passable: Vec<bool> =
                     sources.iter().map(|&c| grid.is_passable(c)).collect();
@@ -85,9 +91,7 @@ impl TeamController {
                 for (&c, &passable) in sources.iter().zip(&was_passable) {
                     grid.set_passable(c, passable);
                 }
-                for c in closed {
-                    grid.set_passable(c, true);
-                }
+                RobotDiscs::close_own(grid, &own);
                 for (k, c) in cands.iter().enumerate() {
                     if keep.contains(&c.cell)
                         || agent
@@ -107,6 +111,9 @@ impl TeamController {
                 }
             }
             costs.push(row);
+        }
+        for (k, d) in discs.into_iter().enumerate() {
+            d.open_all(&mut self.base.nav_grids[k]);
         }
         let chosen = assign_nearest(&costs);
         for (k, &i) in who.iter().enumerate() {

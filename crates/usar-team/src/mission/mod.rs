@@ -32,6 +32,7 @@ mod auction;
 mod check;
 pub use self::check::ConfigError;
 mod controller;
+mod discs;
 mod driving;
 mod evaluation;
 mod live;
@@ -266,22 +267,6 @@ fn nearest_passable(grid: &NavGrid, c: Cell, reach: i32) -> Option<Cell> {
             .map(|(dc, dr)| Cell::new(c.col + dc, c.row + dr))
             .find(|&n| grid.is_passable(n))
     })
-}
-
-/// Marks the cells within `radius_m` of `p` impassable, remembering the ones it changed.
-fn block_disc(grid: &mut NavGrid, p: Point2, radius_m: f64, changed: &mut Vec<Cell>) {
-    let g = *grid.geometry();
-    let c = g.world_to_cell(p);
-    let k = (radius_m / g.resolution_m).ceil() as i32;
-    for dr in -k..=k {
-        for dc in -k..=k {
-            let n = Cell::new(c.col + dc, c.row + dr);
-            if g.contains(n) && g.cell_center(n).distance(p) <= radius_m && grid.is_passable(n) {
-                grid.set_passable(n, false);
-                changed.push(n);
-            }
-        }
-    }
 }
 
 /// Where the robot's plan starts: its own cell when navigable, otherwise every navigable
