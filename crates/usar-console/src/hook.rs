@@ -441,12 +441,16 @@ impl ConsoleHook {
 
 impl MissionHook for ConsoleHook {
     fn after_decide(&mut self, live: &mut LiveMission<'_, '_>) -> bool {
+        self.sim_s = live.time_s();
         if let Some(ready) = self.ready.take() {
-            let _ = ready.send(Ok(()));
             self.overrides = (0..live.team_len()).map(|_| None).collect();
             self.observed.ids = console_ids(live);
+            // The first frame is out before the console serves anyone.
+            self.observed.observe(live, &self.overrides, &self.shared);
+            self.observed
+                .publish(&self.shared, self.sim_s, &self.pacer, 0.0);
+            let _ = ready.send(Ok(()));
         }
-        self.sim_s = live.time_s();
         self.shared.clock.advance_to(self.sim_s);
         self.shared
             .steps
