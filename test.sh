@@ -4,7 +4,10 @@
 #
 # What the tests need beyond a Rust toolchain:
 # - Debian's headless Chromium and its WebDriver (`chromium`, `chromium-driver`), for the
-#   operator console's end-to-end browser test (crates/usar-console/tests/browser.rs).
+#   operator console's end-to-end browser test (crates/usar-console/tests/browser.rs);
+# - a Python virtual environment (target/py-venv) with the MCAP project's readers `mcap` and
+#   `mcap-ros2-support`, for the recording interop test (crates/usar-record/tests/); its
+#   interpreter is passed to the tests as USAR_PYTHON.
 #
 # Set USAR_FUZZ_SECONDS to let the loaders' fuzz harness run longer than its CI budget.
 set -euo pipefail
@@ -37,6 +40,25 @@ if [ ${#need_apt[@]} -gt 0 ]; then
     sleep 10
   done
 fi
+
+# Independent readers of our MCAP recordings, pinned.
+VENV="$PWD/target/py-venv"
+PY_PACKAGES=(mcap==1.6.0 mcap-ros2-support==0.6.0)
+if ! "$VENV/bin/python" -c 'import mcap, mcap_ros2' 2>/dev/null; then
+  echo "test.sh: installing ${PY_PACKAGES[*]} into $VENV (the recording interop test)"
+  python3 -m venv "$VENV"
+  for try in 1 2; do
+    if "$VENV/bin/pip" install -q "${PY_PACKAGES[@]}"; then
+      break
+    fi
+    if [ "$try" -eq 2 ]; then
+      echo "test.sh: could not install ${PY_PACKAGES[*]}" >&2
+      exit 1
+    fi
+    sleep 10
+  done
+fi
+export USAR_PYTHON="$VENV/bin/python"
 
 if [ $# -eq 0 ]; then
   exec cargo test --workspace

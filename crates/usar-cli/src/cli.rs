@@ -763,6 +763,10 @@ pub struct MissionRunArgs {
     /// The crawler's map is also written to this BTM database (.sqlite).
     #[arg(long)]
     pub btm: Option<PathBuf>,
+    /// Record the run into this MCAP file of ROS 2 messages (/clock, /tf, scans, odometry,
+    /// the merged map, BTM / victim / goal markers) for Foxglove, Lichtblick, Rerun or ros2 bag.
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
     #[command(flatten)]
     pub image: ImageArgs,
     /// Print the outcome as JSON (no progress bar).
@@ -775,6 +779,9 @@ pub struct DemoArgs {
     /// Report folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
+    /// Record the run into this MCAP file (see `usar mission run --record`).
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Print the summary as JSON (no progress bar).

@@ -71,3 +71,35 @@ fn a_bad_rescuer_or_operator_field_is_bad_input() {
         "unknown field `delay`",
     );
 }
+
+#[test]
+fn a_recorded_mission_is_the_same_mission_and_leaves_one_complete_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("run.mcap");
+    let args = ["mission", "run", "--minutes", "0.3", "--json"];
+    let plain = usar_json(&args);
+    let mut with = args.to_vec();
+    with.extend(["--record", file.to_str().unwrap()]);
+    let recorded = usar_json(&with);
+    // Recording watches the mission; it changes nothing in it.
+    let strip = |mut v: serde_json::Value| {
+        v.as_object_mut().unwrap().remove("wall_time_s");
+        v
+    };
+    assert_eq!(strip(plain), strip(recorded));
+    let bytes = std::fs::read(&file).unwrap();
+    assert!(bytes.starts_with(b"\x89MCAP0\r\n") && bytes.ends_with(b"\x89MCAP0\r\n"));
+    assert!(!dir.path().join("run.mcap.partial").exists());
+    // A file that cannot be created is the user's to fix, and nothing is left behind.
+    let missing = dir.path().join("no/such/dir/run.mcap");
+    let out = usar(&[
+        "mission",
+        "run",
+        "--minutes",
+        "0.1",
+        "--record",
+        missing.to_str().unwrap(),
+    ]);
+    assert_bad_input(&out, "--record");
+    assert!(!dir.path().join("no").exists());
+}

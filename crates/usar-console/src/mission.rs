@@ -130,7 +130,15 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
                 &m.team.hypothesis,
                 weights,
             );
-            let result = run_mission_live(scene, m, config.seed, None, Operator::Person, &mut hook);
+            let result = run_mission_live(
+                scene,
+                m,
+                config.seed,
+                None,
+                Operator::Person,
+                |_| {},
+                &mut hook,
+            );
             match result {
                 Ok(outcome) => {
                     let finish = if outcome.time_s + 1e-9 >= m.minutes * 60.0 {

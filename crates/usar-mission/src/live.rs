@@ -104,6 +104,12 @@ impl LiveMission<'_, '_> {
             .map(|c| &c.controller.explorer)
     }
 
+    /// The host's id of the crawler.
+    pub fn crawler_robot(&self) -> Option<RobotId> {
+        let c = self.mission.crawler.as_ref()?;
+        self.mission.host.fleet(c.fleet).first().copied()
+    }
+
     /// Why the crawler's exploration ended, once it has.
     pub fn crawler_finished(&self) -> Option<&Result<StopReason, BuildError>> {
         self.mission.crawler.as_ref()?.controller.finished.as_ref()
@@ -159,9 +165,10 @@ pub fn run_mission_live(
     seed: u64,
     store: Option<&BtmStore>,
     operator: Operator,
+    on_progress: impl FnMut(f64),
     hook: &mut dyn MissionHook,
 ) -> Result<MissionOutcome, MissionError> {
-    crate::mission::run(scene, config, seed, store, operator, |_| {}, hook)
+    crate::mission::run(scene, config, seed, store, operator, on_progress, hook)
 }
 
 /// The desk `operator` sits at: the simulated operator's, or a person's.

@@ -45,8 +45,16 @@ fn a_watched_mission_is_the_unwatched_one() {
     let config = config(1.0);
     let plain = run_mission(scene.clone(), &config, 4, None, |_| {}).unwrap();
     let mut watcher = Watcher { steps: 0 };
-    let watched =
-        run_mission_live(scene, &config, 4, None, Operator::Simulated, &mut watcher).unwrap();
+    let watched = run_mission_live(
+        scene,
+        &config,
+        4,
+        None,
+        Operator::Simulated,
+        |_| {},
+        &mut watcher,
+    )
+    .unwrap();
     assert_eq!(
         serde_json::to_string(&plain).unwrap(),
         serde_json::to_string(&watched).unwrap()
@@ -87,7 +95,16 @@ fn a_person_at_the_desk_answers_every_hand_off() {
     let mut person = Person {
         answered: Vec::new(),
     };
-    let out = run_mission_live(scene, &config, 4, None, Operator::Person, &mut person).unwrap();
+    let out = run_mission_live(
+        scene,
+        &config,
+        4,
+        None,
+        Operator::Person,
+        |_| {},
+        &mut person,
+    )
+    .unwrap();
     let kinds = |k: &str| out.handoffs.iter().filter(|h| h.kind == k).count();
     assert!(
         kinds("victim") >= 1 && kinds("drive") >= 1,
@@ -142,6 +159,7 @@ fn a_teleoperated_team_robot_obeys_the_operator_not_its_team() {
         1,
         None,
         Operator::Simulated,
+        |_| {},
         &mut Teleoperator,
     )
     .unwrap();

@@ -34,6 +34,7 @@ pub fn run(args: DemoArgs) -> CmdResult {
         minutes: None,
         out: Some(args.out),
         btm: None,
+        record: args.record,
         image: ImageArgs::none(),
         json: args.json,
     };

@@ -4,11 +4,16 @@ use super::print_json;
 use crate::cli::{MissionCommand, MissionRunArgs};
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::{progress, scene_source};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 use usar_btm::report::partial_path;
 use usar_btm::store::BtmStore;
-use usar_mission::{MissionConfig, MissionOutcome, run_mission};
+use usar_mission::{
+    MissionConfig, MissionError, MissionOutcome, Operator, run_mission, run_mission_live,
+};
+use usar_record::{MissionRecorder, RecordError, Recording};
+use usar_world::Scene;
 
 pub fn run(cmd: MissionCommand) -> CmdResult {
     match cmd {
@@ -53,9 +58,11 @@ pub(crate) fn execute(
         None => None,
     };
     let bar = progress::bar((config.minutes * 60.0).round() as u64, "mission", args.json);
-    let result = run_mission(scene, config, args.seed, store.as_ref(), |t| {
-        bar.set_position(t.round() as u64)
-    });
+    let progress = |t: f64| bar.set_position(t.round() as u64);
+    let result = match &args.record {
+        None => run_mission(scene, config, args.seed, store.as_ref(), progress),
+        Some(path) => recorded(scene, config, args.seed, store.as_ref(), path, progress)?,
+    };
     drop(store);
     let outcome = match result {
         Ok(o) => o,
@@ -87,6 +94,43 @@ pub(crate) fn execute(
         println!("report: {}", dir.display());
     }
     Ok(())
+}
+
+/// The mission recorded into `path` (written as `path.partial`, renamed when complete; a
+/// failed run or recording leaves no file).
+fn recorded(
+    scene: Arc<Scene>,
+    config: &MissionConfig,
+    seed: u64,
+    store: Option<&BtmStore>,
+    path: &Path,
+    progress: impl FnMut(f64),
+) -> CmdResult<Result<MissionOutcome, MissionError>> {
+    let partial = partial_path(path);
+    let file = std::fs::File::create(&partial)
+        .map_err(|e| bad_input(anyhow::anyhow!("--record {}: {e}", path.display())))?;
+    let fail = |e: RecordError| {
+        let _ = std::fs::remove_file(&partial);
+        anyhow::anyhow!("--record {}: {e}", path.display())
+    };
+    let recording = Recording::new(std::io::BufWriter::new(file)).map_err(fail)?;
+    let mut recorder = MissionRecorder::new(recording);
+    let outcome = run_mission_live(
+        scene,
+        config,
+        seed,
+        store,
+        Operator::Simulated,
+        progress,
+        &mut recorder,
+    );
+    if outcome.is_err() {
+        let _ = std::fs::remove_file(&partial);
+        return Ok(outcome);
+    }
+    recorder.finish().map_err(fail)?;
+    std::fs::rename(&partial, path)?;
+    Ok(outcome)
 }
 
 fn print_text(o: &MissionOutcome) {

@@ -261,6 +261,13 @@ impl TeamController {
         self.agents.get(robot).map(|a| a.pose)
     }
 
+    /// The last scan robot `robot` took (in its own frame, stamped with the pose it believed),
+    /// if it has taken one.
+    pub fn last_scan(&self, robot: usize) -> Option<&LaserScan> {
+        let a = self.agents.get(robot)?;
+        a.last_scan.map(|_| &a.scan)
+    }
+
     /// Robot `robot`'s goal: the end of the path it follows.
     pub fn robot_goal(&self, robot: usize) -> Option<Point2> {
         self.agents.get(robot).and_then(|a| a.follower.goal())
