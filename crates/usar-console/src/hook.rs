@@ -152,29 +152,39 @@ impl ConsoleHook {
         }
     }
 
+    /// Carries out a message about the clock (or the token), which needs no mission.
+    fn clock_command(&mut self, message: &ClientMessage) -> Option<Result<(), String>> {
+        match *message {
+            ClientMessage::Auth { .. } => {}
+            ClientMessage::Pause {} => self.pacer.paused = true,
+            ClientMessage::Resume {} => {
+                self.pacer.paused = false;
+                self.pacer.reanchor(self.sim_s);
+            }
+            ClientMessage::Speed { factor } => {
+                self.pacer.speed = factor;
+                self.pacer.reanchor(self.sim_s);
+            }
+            _ => return None,
+        }
+        Some(Ok(()))
+    }
+
     /// Carries out one command; the error is replied to the sender.
     fn apply(
         &mut self,
         message: ClientMessage,
         live: &mut LiveMission<'_, '_>,
     ) -> Result<(), String> {
+        if let Some(result) = self.clock_command(&message) {
+            return result;
+        }
         let n = live.team_len();
         match message {
-            ClientMessage::Auth { .. } => Ok(()),
-            ClientMessage::Pause {} => {
-                self.pacer.paused = true;
-                Ok(())
-            }
-            ClientMessage::Resume {} => {
-                self.pacer.paused = false;
-                self.pacer.reanchor(self.sim_s);
-                Ok(())
-            }
-            ClientMessage::Speed { factor } => {
-                self.pacer.speed = factor;
-                self.pacer.reanchor(self.sim_s);
-                Ok(())
-            }
+            ClientMessage::Auth { .. }
+            | ClientMessage::Pause {}
+            | ClientMessage::Resume {}
+            | ClientMessage::Speed { .. } => Ok(()),
             ClientMessage::AnswerVictim { handoff, tag } => {
                 let decision = if tag {
                     VictimDecision::Tag
@@ -411,22 +421,9 @@ impl ConsoleHook {
         }
         while !self.shared.clock.is_stopping() {
             while let Ok((message, reply)) = self.commands.try_recv() {
-                let result = match message {
-                    ClientMessage::Auth { .. } => Ok(()),
-                    ClientMessage::Pause {} => {
-                        self.pacer.paused = true;
-                        Ok(())
-                    }
-                    ClientMessage::Resume {} => {
-                        self.pacer.paused = false;
-                        Ok(())
-                    }
-                    ClientMessage::Speed { factor } => {
-                        self.pacer.speed = factor;
-                        Ok(())
-                    }
-                    _ => Err(format!("the mission has ended ({finish})")),
-                };
+                let result = self
+                    .clock_command(&message)
+                    .unwrap_or_else(|| Err(format!("the mission has ended ({finish})")));
                 let _ = reply.send(result);
             }
             if self.observed.frame_due() {

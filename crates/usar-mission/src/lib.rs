@@ -34,8 +34,8 @@ mod tally;
 mod zone;
 
 pub use self::config::{CrawlerPart, MissionConfig, RescuerPart, TeamPart};
-pub use self::live::{LiveMission, MissionHook, Operator, run_mission_live};
-pub use self::mission::run_mission;
+pub use self::live::{LiveMission, MissionHook, Operator};
+pub use self::mission::{run_mission, run_mission_live};
 pub use self::outcome::{
     CrawlerFigures, MissionOutcome, MissionSample, OperatorFigures, RescuerFigures, TeamFigures,
     VictimFigures, VictimRow,

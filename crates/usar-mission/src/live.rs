@@ -1,5 +1,6 @@
-//! A mission with someone beside it (the operator console): the same host, controllers and
-//! evaluation as [`crate::run_mission`], stepped one simulation step at a time with a
+//! A mission with someone beside it (the operator console, a recorder): the same host,
+//! controllers and evaluation as [`crate::run_mission`] ([`crate::run_mission_live`]), stepped
+//! one simulation step at a time with a
 //! [`MissionHook`] called between the controllers' decisions and the world's move. Through a
 //! [`LiveMission`] the hook looks at what the robots report, answers hand-offs as a person at
 //! the desk ([`Operator::Person`]), takes a team robot's wheels (teleoperation), changes the
@@ -7,17 +8,13 @@
 
 use crate::board::VictimBoard;
 use crate::mission::Mission;
-use crate::{MissionConfig, MissionError, MissionOutcome};
-use std::sync::Arc;
 use usar_btm::build::{BuildError, Explorer, StopReason};
-use usar_btm::store::BtmStore;
 use usar_rescue::controller::{Answer, RescueController};
 use usar_rescue::desk::{OperatorDesk, RespondError};
 use usar_sim::RobotId;
 use usar_sim::Velocity;
 use usar_sim::host::Evaluator;
 use usar_team::TeamController;
-use usar_world::Scene;
 
 /// Who answers the hand-offs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -155,20 +152,6 @@ impl LiveMission<'_, '_> {
     pub fn relevant_area_m2(&self) -> f64 {
         self.mission.eval.relevant_area_m2()
     }
-}
-
-/// [`crate::run_mission`] with `hook` beside it and `operator` at the desk; the outcome when
-/// the time limit is reached or the hook ends it.
-pub fn run_mission_live(
-    scene: Arc<Scene>,
-    config: &MissionConfig,
-    seed: u64,
-    store: Option<&BtmStore>,
-    operator: Operator,
-    on_progress: impl FnMut(f64),
-    hook: &mut dyn MissionHook,
-) -> Result<MissionOutcome, MissionError> {
-    crate::mission::run(scene, config, seed, store, operator, on_progress, hook)
 }
 
 /// The desk `operator` sits at: the simulated operator's, or a person's.

@@ -528,7 +528,7 @@ pub fn run_mission(
     store: Option<&BtmStore>,
     on_progress: impl FnMut(f64),
 ) -> Result<MissionOutcome, MissionError> {
-    run(
+    run_mission_live(
         scene,
         config,
         seed,
@@ -539,8 +539,9 @@ pub fn run_mission(
     )
 }
 
-/// [`run_mission`] with `operator` at the desk and `hook` beside it.
-pub(crate) fn run(
+/// [`run_mission`] with `operator` at the desk and `hook` beside it (see [`crate::live`]); the
+/// outcome when the time limit is reached or the hook ends it.
+pub fn run_mission_live(
     scene: Arc<Scene>,
     config: &MissionConfig,
     seed: u64,
