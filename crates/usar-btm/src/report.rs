@@ -9,7 +9,7 @@ use crate::{Btm, BtmError, BtmStore, exchange, render, wire};
 use serde::Serialize;
 use serde_json::json;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use usar_sim::RobotSpec;
 use usar_world::{Point2, Pose2, Scene, WorldError};
@@ -43,11 +43,7 @@ impl ReportError {
 }
 
 /// The file a build writes while the robot drives: `out` with `.partial` appended.
-pub fn partial_path(out: &Path) -> PathBuf {
-    let mut name = out.as_os_str().to_owned();
-    name.push(".partial");
-    PathBuf::from(name)
-}
+pub use usar_world::partial_path;
 
 /// Builds a BTM ([`build_btm_observed`]) into the SQLite file `out`: the map is written to
 /// [`partial_path`] as the robot drives (one left by an earlier run is removed first), and

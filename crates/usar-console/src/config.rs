@@ -70,6 +70,9 @@ pub enum ConsoleError {
     /// The mission could not be set up.
     #[error(transparent)]
     Mission(#[from] usar_mission::MissionError),
+    /// The recording could not be started.
+    #[error("--record {path}: {message}")]
+    Record { path: PathBuf, message: String },
 }
 
 impl ConsoleError {
@@ -97,6 +100,9 @@ pub struct MissionConfig {
     /// The scene; when absent, `mission.scene` names a generator (with `mission.scene_seed`) or
     /// a file.
     pub scene: Option<Scene>,
+    /// Record the mission into this MCAP file ([`usar_record`]); it is complete once the
+    /// mission has ended (its time limit, or the console stopped).
+    pub record: Option<PathBuf>,
 }
 
 impl Default for MissionConfig {
@@ -106,6 +112,7 @@ impl Default for MissionConfig {
             seed: 1,
             speed: 1.0,
             scene: None,
+            record: None,
         }
     }
 }

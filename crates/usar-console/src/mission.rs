@@ -13,6 +13,9 @@ use crate::config::MissionConfig;
 use crate::hook::ConsoleHook;
 use crate::protocol::ClientMessage;
 use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
 use std::sync::atomic::AtomicU64;
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -20,6 +23,8 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 use tokio::sync::{oneshot, watch};
 use usar_mission::{Operator, run_mission_live};
+use usar_record::{MissionRecorder, Recording};
+use usar_world::partial_path;
 
 /// A control message for the mission thread and where its result goes.
 pub(crate) type Command = (ClientMessage, oneshot::Sender<Result<(), String>>);
@@ -98,6 +103,31 @@ impl Drop for Mission {
     }
 }
 
+/// A recorder writing to `path`'s partial file (renamed when the mission has ended).
+fn start_recording(path: &Path) -> Result<MissionRecorder<BufWriter<File>>, ConsoleError> {
+    let fail = |message: String| ConsoleError::Record {
+        path: path.into(),
+        message,
+    };
+    let file = File::create(partial_path(path)).map_err(|e| fail(e.to_string()))?;
+    let recording = Recording::new(BufWriter::new(file)).map_err(|e| fail(e.to_string()))?;
+    Ok(MissionRecorder::new(recording))
+}
+
+/// Completes the recording and gives it its name; a failed one leaves no file.
+fn finish_recording(recorder: MissionRecorder<BufWriter<File>>, path: &Path) -> Result<(), String> {
+    let partial = partial_path(path);
+    let done = recorder
+        .finish()
+        .map_err(|e| e.to_string())
+        .and_then(|_| std::fs::rename(&partial, path).map_err(|e| e.to_string()));
+    if let Err(e) = &done {
+        let _ = std::fs::remove_file(&partial);
+        return Err(format!("recording {} failed: {e}", path.display()));
+    }
+    Ok(())
+}
+
 /// Sets the mission up (its scene, its robots, the rescuer's policy) and starts it; returns
 /// once its first step is taken, or with the reason it could not be set up.
 pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
@@ -114,6 +144,10 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
         map_tx,
         commands_tx,
     });
+    let mut recorder = match &config.record {
+        Some(path) => Some(start_recording(path)?),
+        None => None,
+    };
     let (ready_tx, ready_rx) = mpsc::sync_channel(1);
     let thread = {
         let shared = shared.clone();
@@ -130,15 +164,18 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
                 &m.team.hypothesis,
                 weights,
             );
-            let result = run_mission_live(
-                scene,
-                m,
-                config.seed,
-                None,
-                Operator::Person,
-                |_| {},
-                &mut hook,
-            );
+            let run = |hook: &mut dyn usar_mission::MissionHook| {
+                run_mission_live(scene, m, config.seed, None, Operator::Person, |_| {}, hook)
+            };
+            let result = match recorder.as_mut() {
+                Some(r) => run(&mut (&mut hook, r)),
+                None => run(&mut hook),
+            };
+            // The recording is complete when the mission ends.
+            let recorded = match (recorder, &config.record) {
+                (Some(r), Some(path)) => finish_recording(r, path),
+                _ => Ok(()),
+            };
             match result {
                 Ok(outcome) => {
                     let finish = if outcome.time_s + 1e-9 >= m.minutes * 60.0 {
@@ -146,7 +183,10 @@ pub fn launch(config: MissionConfig) -> Result<Mission, ConsoleError> {
                     } else {
                         "stopped"
                     };
-                    hook.after_mission(finish);
+                    match recorded {
+                        Ok(()) => hook.after_mission(finish),
+                        Err(e) => hook.after_mission(&format!("{finish}; {e}")),
+                    }
                 }
                 Err(e) => {
                     if let Some(e) = hook.failed(e) {

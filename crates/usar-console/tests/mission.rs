@@ -42,3 +42,24 @@ async fn the_btm_crawler_is_shown_driving_while_it_builds_the_map() {
     assert!(crawler(&f).expect("crawler").task.contains("nodes"));
     console.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_recorded_console_leaves_one_complete_mcap_when_it_stops() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("console.mcap");
+    let mut mission = small_mission();
+    mission.mission.crawler.enabled = false;
+    mission.record = Some(path.clone());
+    let console = start_local(mission).await;
+    // Some simulated seconds go by, then the console is stopped.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while frame(&console).await.time_s < 3.0 {
+        assert!(Instant::now() < deadline, "the mission did not move");
+        tokio::time::sleep(Duration::from_millis(200)).await;
+    }
+    assert!(!path.exists(), "the recording is named only once complete");
+    console.stop().await;
+    let bytes = std::fs::read(&path).expect("the recording");
+    assert!(bytes.starts_with(b"\x89MCAP0\r\n") && bytes.ends_with(b"\x89MCAP0\r\n"));
+    assert!(!dir.path().join("console.mcap.partial").exists());
+}

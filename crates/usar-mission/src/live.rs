@@ -32,6 +32,16 @@ pub trait MissionHook {
     fn after_decide(&mut self, mission: &mut LiveMission<'_, '_>) -> bool;
 }
 
+/// Two hooks beside one mission (the console and a recorder): each is called every step; the
+/// mission ends when either ends it.
+impl<A: MissionHook + ?Sized, B: MissionHook + ?Sized> MissionHook for (&mut A, &mut B) {
+    fn after_decide(&mut self, mission: &mut LiveMission<'_, '_>) -> bool {
+        let a = self.0.after_decide(mission);
+        let b = self.1.after_decide(mission);
+        a && b
+    }
+}
+
 /// The hook of a mission nobody watches.
 pub(crate) struct Unwatched;
 

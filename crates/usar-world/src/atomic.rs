@@ -3,7 +3,16 @@
 
 use crate::error::{Result, WorldError};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Where a file written while work goes on (a map built as a robot drives, a recording) lives
+/// until it is complete: `out` with `.partial` appended, renamed to `out` at the end, so that
+/// nothing half written ever carries the final name.
+pub fn partial_path(out: &Path) -> PathBuf {
+    let mut name = out.as_os_str().to_owned();
+    name.push(".partial");
+    PathBuf::from(name)
+}
 
 /// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {

@@ -30,7 +30,7 @@ pub mod render;
 pub mod scene;
 mod toml_error;
 
-pub use self::atomic::write_atomic;
+pub use self::atomic::{partial_path, write_atomic};
 pub use self::error::{Result, WorldError};
 pub use self::geometry::{BodyToWorld, Point2, Pose2, Rect, normalize_angle};
 pub use self::grid::{Cell, Grid, GridGeometry, NEIGHBORS8};

@@ -76,6 +76,10 @@ pub struct ConsoleServeArgs {
     /// Simulated seconds per wall-clock second.
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
+    /// Record the mission into this MCAP file (as `usar mission run --record`); complete once
+    /// the mission has ended or the console is stopped (Ctrl-C).
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
     #[command(flatten)]
     pub image: ImageArgs,
 }
@@ -127,6 +131,7 @@ fn serve(args: ConsoleServeArgs) -> CmdResult {
     let mut mission = mission_config(args.mission.as_ref())?;
     mission.seed = args.seed;
     mission.speed = args.speed;
+    mission.record = args.record;
     let m = &mut mission.mission;
     if let Some(minutes) = args.minutes {
         m.minutes = minutes;
