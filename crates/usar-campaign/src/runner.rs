@@ -66,6 +66,37 @@ impl FactorSpec {
             help: help.into(),
         }
     }
+
+    /// A text factor taking one of `choices` (any text when empty).
+    pub fn text(name: &str, choices: &[&str], default: &str, help: &str) -> Self {
+        let choices = choices.iter().map(|c| c.to_string()).collect();
+        Self::new(
+            name,
+            FactorKind::Text { choices },
+            Level::Text(default.into()),
+            help,
+        )
+    }
+
+    /// An integer factor in `min..=max`.
+    pub fn int(name: &str, (min, max): (i64, i64), default: i64, help: &str) -> Self {
+        Self::new(
+            name,
+            FactorKind::Int { min, max },
+            Level::Int(default),
+            help,
+        )
+    }
+
+    /// A real factor in `min..=max`.
+    pub fn float(name: &str, (min, max): (f64, f64), default: f64, help: &str) -> Self {
+        Self::new(
+            name,
+            FactorKind::Float { min, max },
+            Level::Float(default),
+            help,
+        )
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -5,9 +5,7 @@
 use crate::{MissionConfig, run_mission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
-use usar_campaign::{
-    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner, SeriesPoint,
-};
+use usar_campaign::{Config, FactorSpec, MetricSpec, RunError, RunOutput, Runner, SeriesPoint};
 use usar_team::runner::{SceneCache, scene_for};
 use usar_world::Scene;
 
@@ -20,35 +18,6 @@ impl Default for MissionRunner {
     fn default() -> Self {
         Self::new()
     }
-}
-
-fn text(name: &str, choices: &[&str], default: &str, help: &str) -> FactorSpec {
-    FactorSpec::new(
-        name,
-        FactorKind::Text {
-            choices: choices.iter().map(|c| c.to_string()).collect(),
-        },
-        Level::Text(default.into()),
-        help,
-    )
-}
-
-fn int(name: &str, (min, max): (i64, i64), default: i64, help: &str) -> FactorSpec {
-    FactorSpec::new(
-        name,
-        FactorKind::Int { min, max },
-        Level::Int(default),
-        help,
-    )
-}
-
-fn float(name: &str, (min, max): (f64, f64), default: f64, help: &str) -> FactorSpec {
-    FactorSpec::new(
-        name,
-        FactorKind::Float { min, max },
-        Level::Float(default),
-        help,
-    )
 }
 
 impl MissionRunner {
@@ -107,58 +76,58 @@ impl Runner for MissionRunner {
 
     fn factors(&self) -> Vec<FactorSpec> {
         vec![
-            text(
+            FactorSpec::text(
                 "scene",
                 &[],
                 "office",
                 "a generator name (office, mall, rubble, course) or a scene/map file",
             ),
-            int("scene_seed", (0, i64::MAX), 1, "seed of a generated scene"),
-            float("minutes", (0.01, 1440.0), 10.0, "simulated time limit"),
-            int("team_robots", (1, 32), 4, "paper 002's wheeled robots"),
-            text(
+            FactorSpec::int("scene_seed", (0, i64::MAX), 1, "seed of a generated scene"),
+            FactorSpec::float("minutes", (0.01, 1440.0), 10.0, "simulated time limit"),
+            FactorSpec::int("team_robots", (1, 32), 4, "paper 002's wheeled robots"),
+            FactorSpec::text(
                 "strategy",
                 &["random", "distance", "d-mcdm", "s-mcdm", "nearest"],
                 "s-mcdm",
                 "the team's strategy",
             ),
-            text(
+            FactorSpec::text(
                 "coordination",
                 &["sr", "mrv1", "mrv2"],
                 "mrv1",
                 "the team's coordination",
             ),
-            int(
+            FactorSpec::int(
                 "crawler",
                 (0, 1),
                 1,
                 "1: paper 004's crawler shares its BTM",
             ),
-            int(
+            FactorSpec::int(
                 "rescuer",
                 (0, 1),
                 1,
                 "1: paper 000's robot searches a rubble zone",
             ),
-            int(
+            FactorSpec::int(
                 "zone_cells",
                 (2, 40),
                 10,
                 "side of the rescuer's zone, cells",
             ),
-            text(
+            FactorSpec::text(
                 "put_down",
                 &["arena-start", "open-turnable"],
                 "arena-start",
                 "where the rescuer is put down in its rubble zone",
             ),
-            int(
+            FactorSpec::int(
                 "train_trials",
                 (1, 1_000_000),
                 300,
                 "the rescuer's training trials",
             ),
-            float(
+            FactorSpec::float(
                 "operator_delay_s",
                 (0.0, 600.0),
                 5.0,

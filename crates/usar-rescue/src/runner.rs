@@ -13,9 +13,7 @@ use crate::training::{TrainConfig, train};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
-use usar_campaign::{
-    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner,
-};
+use usar_campaign::{Config, FactorSpec, MetricSpec, RunError, RunOutput, Runner};
 use usar_maxq::MaxqQ;
 
 /// Policies by (file, trials, seed) and scenes by (name, seed), built once per campaign.
@@ -91,22 +89,16 @@ impl Runner for MaxqEvalRunner {
 
     fn factors(&self) -> Vec<FactorSpec> {
         let int = |name: &str, min: i64, max: i64, default: i64, help: &str| {
-            FactorSpec::new(
-                name,
-                FactorKind::Int { min, max },
-                Level::Int(default),
-                help,
-            )
+            FactorSpec::int(name, (min, max), default, help)
         };
-        let weights: Vec<String> = ExplorationWeights::table_ii()
-            .iter()
-            .map(|w| w.name.clone())
-            .collect();
+        let weights = ExplorationWeights::table_ii();
+        let weights: Vec<&str> = weights.iter().map(|w| w.name.as_str()).collect();
+        let scenes: Vec<&str> = SCENES.iter().map(|(n, _)| *n).collect();
         vec![
-            FactorSpec::new(
+            FactorSpec::text(
                 "policy",
-                FactorKind::Text { choices: vec![] },
-                Level::Text(String::new()),
+                &[],
+                "",
                 "a policy file from `usar maxq train`; empty: train one with train_trials and train_seed",
             ),
             int(
@@ -123,20 +115,13 @@ impl Runner for MaxqEvalRunner {
                 1,
                 "training seed when no policy file is given",
             ),
-            FactorSpec::new(
-                "scene",
-                FactorKind::Text {
-                    choices: SCENES.iter().map(|(n, _)| n.to_string()).collect(),
-                },
-                Level::Text("A".into()),
-                "evaluation scene (paper 000 §VI-B)",
-            ),
+            FactorSpec::text("scene", &scenes, "A", "evaluation scene (paper 000 §VI-B)"),
             int("scene_seed", 0, i64::MAX, 1, "seed of the scene generator"),
             int("start", 0, 2, 0, "start pose of the scene (0, 1, 2)"),
-            FactorSpec::new(
+            FactorSpec::text(
                 "weights",
-                FactorKind::Text { choices: weights },
-                Level::Text("travel".into()),
+                &weights,
+                "travel",
                 "exploration weight case of Table II",
             ),
             int(

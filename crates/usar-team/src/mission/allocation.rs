@@ -62,8 +62,10 @@ impl TeamController {
             .filter(|a| a.alive)
             .map(|a| a.pose.position())
             .collect();
-        let discs =
-            [0, 1].map(|k| RobotDiscs::close(&mut self.base.nav_grids[k], &alive, clearance));
+        let discs = [0, 1].map(|k| {
+            let cover = std::mem::take(&mut self.disc_cover[k]);
+            RobotDiscs::close(&mut self.base.nav_grids[k], &alive, clearance, cover)
+        });
         let mut costs = Vec::with_capacity(who.len());
         for &i in who {
             let pose = self.agents[i].pose;
@@ -113,7 +115,7 @@ impl TeamController {
             costs.push(row);
         }
         for (k, d) in discs.into_iter().enumerate() {
-            d.open_all(&mut self.base.nav_grids[k]);
+            self.disc_cover[k] = d.open_all(&mut self.base.nav_grids[k]);
         }
         let chosen = assign_nearest(&costs);
         for (k, &i) in who.iter().enumerate() {

@@ -101,6 +101,9 @@ pub struct TeamController {
     /// The current bidder's distance field on the bid grid: one buffer for every bidder, so
     /// that an auction keeps one field's memory in cache rather than one per robot.
     pub(super) bid_field: DistanceField,
+    /// Per navigable grid: how many robot discs cover each cell during a nearest-frontier
+    /// round (all zero between rounds; see `discs.rs`).
+    pub(super) disc_cover: [Vec<u16>; 2],
     /// b(p, r) of the current bidder's paths, memoised along its distance field.
     pub(super) travel_times: TravelTimes,
     pub(super) strategy_rng: Pcg64Mcg,
@@ -227,6 +230,7 @@ impl TeamController {
             measures,
             planner: GridAStar::new(),
             bid_field: DistanceField::new(),
+            disc_cover: Default::default(),
             travel_times: TravelTimes::new(),
             strategy_rng: Pcg64Mcg::seed_from_u64(derive_seed(seed, STRATEGY_STREAM)),
             assignments: Vec::new(),

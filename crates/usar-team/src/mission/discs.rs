@@ -2,7 +2,8 @@
 //! allocation round on a navigable grid, every closed cell with the number of discs covering
 //! it, so that a robot plans with its own disc open where no other disc covers it. The same
 //! grid as closing every other robot's disc for each planning robot, in O(robots) disc cells
-//! per round rather than O(robots²).
+//! per round rather than O(robots²). The cover counts live in a buffer the team keeps from
+//! round to round (only the cells a round touched are cleared).
 
 use super::*;
 
@@ -29,10 +30,16 @@ pub(super) struct RobotDiscs {
 }
 
 impl RobotDiscs {
-    /// Closes the discs of radius `radius_m` around `robots` on `grid`.
-    pub(super) fn close(grid: &mut NavGrid, robots: &[Point2], radius_m: f64) -> Self {
+    /// Closes the discs of radius `radius_m` around `robots` on `grid`, counting in `cover`
+    /// (all zero, or empty: it is sized to the grid).
+    pub(super) fn close(
+        grid: &mut NavGrid,
+        robots: &[Point2],
+        radius_m: f64,
+        mut cover: Vec<u16>,
+    ) -> Self {
         let g = *grid.geometry();
-        let mut cover = vec![0u16; g.len()];
+        cover.resize(g.len(), 0);
         let mut closed = Vec::new();
         for &p in robots {
             for_disc(&g, p, radius_m, |n| {
@@ -73,10 +80,14 @@ impl RobotDiscs {
         }
     }
 
-    /// Opens every cell the discs closed: the grid as it was.
-    pub(super) fn open_all(self, grid: &mut NavGrid) {
+    /// Opens every cell the discs closed: the grid as it was. Returns the cover buffer, all
+    /// zero again, for the next round.
+    pub(super) fn open_all(mut self, grid: &mut NavGrid) -> Vec<u16> {
+        let g = *grid.geometry();
         for n in self.closed {
             grid.set_passable(n, true);
+            self.cover[g.index(n)] = 0;
         }
+        self.cover
     }
 }

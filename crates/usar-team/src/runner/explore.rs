@@ -4,9 +4,7 @@
 use crate::{TeamConfig, TeamMission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
-use usar_campaign::{
-    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner, SeriesPoint,
-};
+use usar_campaign::{Config, FactorSpec, MetricSpec, RunError, RunOutput, Runner, SeriesPoint};
 use usar_world::Scene;
 use usar_world::io::source::{BareImage, load_scene};
 
@@ -79,31 +77,13 @@ pub(crate) fn scene_and_team_factors(
     robot: &str,
 ) -> Vec<FactorSpec> {
     vec![
-        FactorSpec::new(
-            "scene",
-            FactorKind::Text { choices: vec![] },
-            Level::Text("office".into()),
-            scene_help,
-        ),
-        FactorSpec::new(
-            "scene_seed",
-            FactorKind::Int {
-                min: 0,
-                max: i64::MAX,
-            },
-            Level::Int(1),
-            "seed of a generated scene",
-        ),
-        FactorSpec::new(
-            "robots",
-            FactorKind::Int { min: 1, max: 64 },
-            Level::Int(robots),
-            "team size",
-        ),
-        FactorSpec::new(
+        FactorSpec::text("scene", &[], "office", scene_help),
+        FactorSpec::int("scene_seed", (0, i64::MAX), 1, "seed of a generated scene"),
+        FactorSpec::int("robots", (1, 64), robots, "team size"),
+        FactorSpec::text(
             "robot",
-            FactorKind::Text { choices: vec![] },
-            Level::Text(robot.into()),
+            &[],
+            robot,
             "robot model: crawler, cell-crawler, wheeled, wheeled-paper-pace or a robot TOML file",
         ),
     ]
@@ -133,28 +113,17 @@ impl Runner for ExploreRunner {
             "wheeled",
         );
         factors.extend([
-            FactorSpec::new(
-                "minutes",
-                FactorKind::Float {
-                    min: 0.01,
-                    max: 1440.0,
-                },
-                Level::Float(20.0),
-                "simulated time limit",
-            ),
-            FactorSpec::new(
+            FactorSpec::float("minutes", (0.01, 1440.0), 20.0, "simulated time limit"),
+            FactorSpec::float(
                 "stop_at_coverage",
-                FactorKind::Float { min: 0.0, max: 1.0 },
-                Level::Float(1.0),
+                (0.0, 1.0),
+                1.0,
                 "stop at this coverage (1: never)",
             ),
-            FactorSpec::new(
+            FactorSpec::float(
                 "stall_minutes",
-                FactorKind::Float {
-                    min: 0.0,
-                    max: 1440.0,
-                },
-                Level::Float(3.0),
+                (0.0, 1440.0),
+                3.0,
                 "stop when coverage grew < 0.2 % in this long (0: never)",
             ),
         ]);

@@ -8,7 +8,7 @@ pub use self::explore::{ExploreRunner, SceneCache, scene_for};
 pub use self::team::TeamRunner;
 
 use crate::tuning::Tuning;
-use usar_campaign::{Config, FactorKind, FactorSpec, Level};
+use usar_campaign::{Config, FactorSpec};
 
 /// The fields of [`Tuning`] as factors (by their field names, defaults as they are).
 pub(crate) fn tuning_factors() -> Vec<FactorSpec> {
@@ -17,21 +17,8 @@ pub(crate) fn tuning_factors() -> Vec<FactorSpec> {
         .map(|(name, default)| {
             let help = "tuning of driving, recovery or allocation (usar_team::tuning::Tuning)";
             match default.as_i64() {
-                Some(n) => FactorSpec::new(
-                    &name,
-                    FactorKind::Int {
-                        min: 0,
-                        max: 1_000_000,
-                    },
-                    Level::Int(n),
-                    help,
-                ),
-                None => FactorSpec::new(
-                    &name,
-                    FactorKind::Float { min: 0.0, max: 1e6 },
-                    Level::Float(default.as_f64().unwrap_or(0.0)),
-                    help,
-                ),
+                Some(n) => FactorSpec::int(&name, (0, 1_000_000), n, help),
+                None => FactorSpec::float(&name, (0.0, 1e6), default.as_f64().unwrap_or(0.0), help),
             }
         })
         .collect()

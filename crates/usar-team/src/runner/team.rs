@@ -7,9 +7,7 @@ use crate::setup::{DEFAULT_ROBOT, TeamSetup};
 use crate::{Radio, TeamConfig, TeamMission};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
-use usar_campaign::{
-    Config, FactorKind, FactorSpec, Level, MetricSpec, RunError, RunOutput, Runner, SeriesPoint,
-};
+use usar_campaign::{Config, FactorSpec, MetricSpec, RunError, RunOutput, Runner, SeriesPoint};
 use usar_map::segmentation::SegmentationParams;
 use usar_world::{RoomLabel, Scene};
 
@@ -102,22 +100,10 @@ impl Runner for TeamRunner {
 
     fn factors(&self) -> Vec<FactorSpec> {
         let text = |name: &str, default: &str, choices: &[&str], help: &str| {
-            FactorSpec::new(
-                name,
-                FactorKind::Text {
-                    choices: choices.iter().map(|c| c.to_string()).collect(),
-                },
-                Level::Text(default.into()),
-                help,
-            )
+            FactorSpec::text(name, choices, default, help)
         };
         let float = |name: &str, default: f64, max: f64, help: &str| {
-            FactorSpec::new(
-                name,
-                FactorKind::Float { min: 0.0, max },
-                Level::Float(default),
-                help,
-            )
+            FactorSpec::float(name, (0.0, max), default, help)
         };
         let mut factors = scene_and_team_factors(
             "office or mall (generated with scene_seed), or a scene file (segmented if it has no room layer)",
