@@ -96,6 +96,38 @@ fn render_images(
     });
 }
 
+/// The crawler's BTM nodes, for a map message.
+fn btm_nodes(live: &LiveMission<'_, '_>) -> Vec<BtmNodeView> {
+    let Some(btm) = live.crawler().map(|c| c.btm()) else {
+        return Vec::new();
+    };
+    btm.nodes
+        .iter()
+        .map(|n| BtmNodeView {
+            id: n.id,
+            x: n.x_m,
+            y: n.y_m,
+            kind: n.kind.clone(),
+        })
+        .collect()
+}
+
+/// The crawler's BTM links, for a map message.
+fn btm_links(live: &LiveMission<'_, '_>) -> Vec<BtmLinkView> {
+    let Some(btm) = live.crawler().map(|c| c.btm()) else {
+        return Vec::new();
+    };
+    btm.links
+        .iter()
+        .map(|l| BtmLinkView {
+            start: l.start,
+            end: l.end,
+            searched: l.searched,
+            direction_rad: l.direction_rad,
+        })
+        .collect()
+}
+
 /// The latest views, and what was last sent.
 pub(crate) struct Observed {
     pub weights: [f64; 3],
@@ -170,7 +202,7 @@ impl Observed {
         self.robots.clear();
         self.rescuer(live);
         self.team(live, overrides);
-        let btm = self.crawler(live);
+        self.crawler(live);
         self.victims(live);
         self.handoffs(live, shared);
         self.explored_m2 = live.team().base_station().merged.known_area_m2();
@@ -183,16 +215,11 @@ impl Observed {
             .and_then(|r| r.agent())
             .map(|a| a.map.cells.iter().map(|&c| cell_code(c)).collect())
             .unwrap_or_default();
-        let state = (
-            self.explored.len(),
-            cell_map,
-            btm.as_ref().map_or(0, |(n, l)| n.len() + l.len()),
-        );
+        let state = (self.explored.len(), cell_map, self.btm.0 + self.btm.1);
         if state != self.map_state && self.last_map.elapsed() >= MAP_PERIOD {
             self.last_map = Instant::now();
             self.map_seq += 1;
-            let (nodes, links) = btm.unwrap_or_default();
-            self.pending_map = Some(self.map_view(live, &state.1, nodes, links));
+            self.pending_map = Some(self.map_view(live, &state.1));
             self.map_state = state;
         }
     }
@@ -272,12 +299,11 @@ impl Observed {
         }
     }
 
-    /// The crawler at its own pose estimate; its BTM for the overlay.
-    fn crawler(
-        &mut self,
-        live: &LiveMission<'_, '_>,
-    ) -> Option<(Vec<BtmNodeView>, Vec<BtmLinkView>)> {
-        let explorer = live.crawler()?;
+    /// The crawler at its own pose estimate, and its BTM's size.
+    fn crawler(&mut self, live: &LiveMission<'_, '_>) {
+        let Some(explorer) = live.crawler() else {
+            return;
+        };
         let btm = explorer.btm();
         self.btm = (btm.nodes.len(), btm.links.len());
         let pose = explorer.estimated_pose();
@@ -297,27 +323,6 @@ impl Observed {
             task,
             goal: None,
         });
-        let nodes = btm
-            .nodes
-            .iter()
-            .map(|n| BtmNodeView {
-                id: n.id,
-                x: n.x_m,
-                y: n.y_m,
-                kind: n.kind.clone(),
-            })
-            .collect();
-        let links = btm
-            .links
-            .iter()
-            .map(|l| BtmLinkView {
-                start: l.start,
-                end: l.end,
-                searched: l.searched,
-                direction_rad: l.direction_rad,
-            })
-            .collect();
-        Some((nodes, links))
     }
 
     /// The rescuer's possible victims, then the team's reports on the base station's board
@@ -411,13 +416,7 @@ impl Observed {
 
     /// The map message: the team's merged grid with the room labels its semantic map holds
     /// (the oracle's or its own segmentation's), the rescuer's cell map, the BTM.
-    fn map_view(
-        &self,
-        live: &LiveMission<'_, '_>,
-        cell_map: &[u8],
-        btm_nodes: Vec<BtmNodeView>,
-        btm_links: Vec<BtmLinkView>,
-    ) -> MapView {
+    fn map_view(&self, live: &LiveMission<'_, '_>, cell_map: &[u8]) -> MapView {
         let team = live.team();
         let merged = &team.base_station().merged;
         let semantic = team.semantic_map();
@@ -457,8 +456,8 @@ impl Observed {
             cell_size_m: zone.map_or(0.0, |z| z.resolution_m),
             cell_origin: zone.map_or([0.0; 2], |z| [z.origin.x, z.origin.y]),
             cell_map: b64.encode(cell_map),
-            btm_nodes,
-            btm_links,
+            btm_nodes: btm_nodes(live),
+            btm_links: btm_links(live),
             explored: self.explored.clone(),
         }
     }

@@ -154,21 +154,8 @@ impl MissionConfig {
                 "found 0, expected at least 1".into(),
             ));
         }
-        if !["largest-room", "start"].contains(&r.zone.as_str()) {
-            return Err(rescuer(
-                "zone",
-                format!("found `{}`, expected largest-room or start", r.zone),
-            ));
-        }
-        if !["arena-start", "open-turnable"].contains(&r.put_down.as_str()) {
-            return Err(rescuer(
-                "put_down",
-                format!(
-                    "found `{}`, expected arena-start or open-turnable",
-                    r.put_down
-                ),
-            ));
-        }
+        crate::zone::ZoneAt::of(r)?;
+        crate::zone::PutDown::of(r)?;
         Ok(())
     }
 }

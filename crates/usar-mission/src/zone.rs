@@ -10,6 +10,48 @@ use usar_world::cellview::{CellView, CellViewParams};
 use usar_world::generate::lay_rubble;
 use usar_world::{Cell, GridGeometry, Point2, Pose2, RoomId, RoomLabel, Scene};
 
+/// Where the rescuer's zone is (`[rescuer] zone`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ZoneAt {
+    LargestRoom,
+    Start,
+}
+
+/// Where the robot is put down in a rubble zone (`[rescuer] put_down`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PutDown {
+    /// The paper's: the rubble arena's own start cell (the default).
+    ArenaStart,
+    /// The variant developed while looking at report floors.
+    OpenTurnable,
+}
+
+impl ZoneAt {
+    pub(crate) fn of(part: &RescuerPart) -> Result<Self, MissionError> {
+        match part.zone.as_str() {
+            "largest-room" => Ok(Self::LargestRoom),
+            "start" => Ok(Self::Start),
+            other => Err(bad(
+                "zone",
+                format!("found `{other}`, expected largest-room or start"),
+            )),
+        }
+    }
+}
+
+impl PutDown {
+    pub(crate) fn of(part: &RescuerPart) -> Result<Self, MissionError> {
+        match part.put_down.as_str() {
+            "arena-start" => Ok(Self::ArenaStart),
+            "open-turnable" => Ok(Self::OpenTurnable),
+            other => Err(bad(
+                "put_down",
+                format!("found `{other}`, expected arena-start or open-turnable"),
+            )),
+        }
+    }
+}
+
 /// The zone: `cells` × `cells` of the scene's cell grid `view` centred on `start`'s cell
 /// (clipped to the floor), and the pose the robot is put down at — its cell's centre, facing
 /// the nearest quarter heading.
@@ -67,9 +109,10 @@ pub(crate) fn place(
     start: Pose2,
     seed: u64,
 ) -> Result<(GridGeometry, Pose2), MissionError> {
-    match part.zone.as_str() {
-        "start" => Ok(zone(view, start, part.zone_cells)),
-        "largest-room" => {
+    let put_down_rule = PutDown::of(part)?;
+    match ZoneAt::of(part)? {
+        ZoneAt::Start => Ok(zone(view, start, part.zone_cells)),
+        ZoneAt::LargestRoom => {
             let Some((room, centre)) = largest_room(scene) else {
                 return Err(bad(
                     "zone",
@@ -99,22 +142,12 @@ pub(crate) fn place(
                 |c| allowed[g.index(c)],
             );
             let view = CellView::from_scene(scene, &CellViewParams::default());
-            let chosen = match part.put_down.as_str() {
-                "arena-start" => laid.start,
-                "open-turnable" => put_down_in(&view, scene, &zone, spec),
-                other => {
-                    return Err(bad(
-                        "put_down",
-                        format!("found `{other}`, expected arena-start or open-turnable"),
-                    ));
-                }
+            let chosen = match put_down_rule {
+                PutDown::ArenaStart => laid.start,
+                PutDown::OpenTurnable => put_down_in(&view, scene, &zone, spec),
             };
             Ok((zone, chosen.unwrap_or(put_down)))
         }
-        other => Err(bad(
-            "zone",
-            format!("found `{other}`, expected largest-room or start"),
-        )),
     }
 }
 

@@ -7,13 +7,13 @@ use crate::{progress, scene_source};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
-use usar_btm::report::partial_path;
 use usar_btm::store::BtmStore;
 use usar_mission::{
     MissionConfig, MissionError, MissionOutcome, Operator, run_mission, run_mission_live,
 };
 use usar_record::{MissionRecorder, RecordError, Recording};
 use usar_world::Scene;
+use usar_world::partial_path;
 
 pub fn run(cmd: MissionCommand) -> CmdResult {
     match cmd {
