@@ -134,28 +134,40 @@ function renderVictims(f) {
   if ($("victims").innerHTML !== html) $("victims").innerHTML = html;
 }
 
-// The queue is rebuilt when hand-offs come or go; a stuck robot's card is updated in place as
-// the robot is driven (its reason and suggested heading change, its button stays).
+// One card per hand-off, in the desk's order (the one being answered first). A card is made
+// when its hand-off appears and removed once it is answered, never rebuilt while it shows: a
+// question arriving behind it does not replace the button a person is about to click. A stuck
+// robot's card is updated in place as the robot is driven.
+function handoffCard(h) {
+  const card = document.createElement("div");
+  card.id = "handoff-" + h.id;
+  if (h.kind === "victim") {
+    card.className = "handoff victim";
+    card.innerHTML = `Robot ${h.robot}: possible victim at ` +
+      `(${h.x.toFixed(1)}, ${h.y.toFixed(1)}), p = ${h.probability.toFixed(2)}, ${h.size_m2.toFixed(3)} m²<br>` +
+      `<img src="${h.thermal}" alt="thermal region" title="thermal region">` +
+      `<img src="${h.depth}" alt="depth profile" title="depth profile ahead"><br>` +
+      `<button class="confirm" data-id="${h.id}">Confirm victim</button>` +
+      `<button class="reject" data-id="${h.id}">Reject</button>`;
+  } else {
+    card.className = "handoff stuck";
+    card.innerHTML = `<span class="why"></span> <button class="take" data-robot="${h.robot}">Take over</button>`;
+  }
+  return card;
+}
+
 function renderHandoffs(f) {
   const div = $("handoffs");
-  const key = f.handoffs.map((h) => h.id + h.kind).join(",");
-  if (div.dataset.key !== key) {
-    div.dataset.key = key;
-    div.innerHTML = f.handoffs.length ? f.handoffs.map((h) => {
-      if (h.kind === "victim") {
-        return `<div class="handoff victim" id="handoff-${h.id}">Robot ${h.robot}: possible victim at ` +
-          `(${h.x.toFixed(1)}, ${h.y.toFixed(1)}), p = ${h.probability.toFixed(2)}, ${h.size_m2.toFixed(3)} m²<br>` +
-          `<img src="${h.thermal}" alt="thermal region" title="thermal region">` +
-          `<img src="${h.depth}" alt="depth profile" title="depth profile ahead"><br>` +
-          `<button class="confirm" data-id="${h.id}">Confirm victim</button>` +
-          `<button class="reject" data-id="${h.id}">Reject</button></div>`;
-      }
-      return `<div class="handoff stuck" id="handoff-${h.id}"><span class="why"></span> ` +
-        `<button class="take" data-robot="${h.robot}">Take over</button></div>`;
-    }).join("") : '<p class="empty">none</p>';
+  const shown = new Set(f.handoffs.map((h) => "handoff-" + h.id));
+  [...div.children].forEach((c) => { if (!shown.has(c.id)) c.remove(); });
+  if (!f.handoffs.length) {
+    if (!div.children.length) div.innerHTML = '<p class="empty">none</p>';
+    return;
   }
-  f.handoffs.filter((h) => h.kind === "stuck").forEach((h) => {
-    const card = $("handoff-" + h.id);
+  f.handoffs.forEach((h, k) => {
+    const card = $("handoff-" + h.id) || handoffCard(h);
+    if (div.children[k] !== card) div.insertBefore(card, div.children[k] || null);
+    if (h.kind !== "stuck") return;
     const why = h.reason === "no progress"
       ? "has driven without exploring anything new; drive it (arrow keys) until it explores again"
       : "cannot make its commands take effect; drive it (arrow keys) until one does";
