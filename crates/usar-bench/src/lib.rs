@@ -4,6 +4,7 @@
 //! [`BenchReport`] (serialisable; its [`Display`](std::fmt::Display) is the table `usar bench`
 //! prints).
 
+pub mod laser_reference;
 pub mod scaling;
 
 use rand::{Rng, SeedableRng};
@@ -87,6 +88,9 @@ pub enum BenchError {
     /// A temporary folder could not be made.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    /// The Python laser reference could not run or printed no rate.
+    #[error("laser reference: {0}")]
+    Reference(String),
 }
 
 /// The number of stages [`run_observed`] reports, for a progress bar.

@@ -809,6 +809,14 @@ pub struct BenchArgs {
     /// (the whole table runs each cell in a process of its own, for its peak memory).
     #[arg(long, requires = "scaling")]
     pub pipeline: Option<String>,
+    /// Instead: the laser (`lidar_scans_per_s`) beside the Python reference — raycast2D's C
+    /// raycaster with an OpenCV occupancy update — on the same floor and poses, in this run.
+    #[arg(long, conflicts_with = "scaling")]
+    pub laser_reference: bool,
+    /// The Python that runs the reference (it needs `raycast2D`, `opencv-python-headless` and
+    /// `numpy`); default: $USAR_PYTHON, else `python3`.
+    #[arg(long, requires = "laser_reference")]
+    pub python: Option<PathBuf>,
     /// Print one JSON object with every figure.
     #[arg(long)]
     pub json: bool,

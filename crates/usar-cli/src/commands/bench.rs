@@ -9,6 +9,9 @@ pub fn run(args: BenchArgs) -> CmdResult {
     if args.scaling {
         return scaling(&args);
     }
+    if args.laser_reference {
+        return laser_reference(&args);
+    }
     let bar = progress::bar(usar_bench::STAGES, "benchmarking", args.json);
     let report = usar_bench::run_observed(args.quick, || bar.inc(1))?;
     bar.finish_and_clear();
@@ -87,5 +90,32 @@ fn scaling(args: &BenchArgs) -> CmdResult {
             r.peak_rss_mib.map_or("-".into(), |m| format!("{m:.0} MiB"))
         );
     }
+    Ok(())
+}
+
+fn laser_reference(args: &BenchArgs) -> CmdResult {
+    let python = args.python.clone().unwrap_or_else(|| {
+        std::env::var_os("USAR_PYTHON").map_or_else(|| "python3".into(), Into::into)
+    });
+    let (scans, reps) = if args.quick { (2_000, 3) } else { (10_000, 5) };
+    let bar = progress::bar(1, "laser, reference", args.json);
+    let c = usar_bench::laser_reference::compare(&python, scans, reps)?;
+    bar.finish_and_clear();
+    if args.json {
+        return print_json(&c);
+    }
+    println!(
+        "360-beam 20 m scans with their occupancy update, {} a repetition, median of {}",
+        c.scans, c.reps
+    );
+    println!(
+        "usar                          {:>9.0} scans/s",
+        c.usar_scans_per_s
+    );
+    println!(
+        "raycast2D + OpenCV (Python)   {:>9.0} scans/s",
+        c.reference_scans_per_s
+    );
+    println!("usar / reference              {:>9.2}x", c.ratio);
     Ok(())
 }
