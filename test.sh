@@ -6,9 +6,10 @@
 # - Debian's headless Chromium and its WebDriver (`chromium`, `chromium-driver`), for the
 #   operator console's end-to-end browser test (crates/usar-console/tests/browser.rs);
 # - a Python virtual environment (target/py-venv) with the MCAP project's readers `mcap` and
-#   `mcap-ros2-support` (the recording interop test, crates/usar-record/tests/) and the laser
-#   reference's raycast2D, OpenCV and NumPy (crates/usar-bench/tests/); its interpreter is
-#   passed to the tests as USAR_PYTHON.
+#   `mcap-ros2-support` and `rosbags` (the recording and log interop tests,
+#   crates/usar-record/tests/, crates/usar-log/tests/) and the laser reference's raycast2D,
+#   OpenCV and NumPy (crates/usar-bench/tests/); its interpreter is passed to the tests as
+#   USAR_PYTHON.
 #
 # Set USAR_FUZZ_SECONDS to let the loaders' fuzz harness run longer than its CI budget.
 set -euo pipefail
@@ -44,9 +45,9 @@ fi
 
 # Independent readers of our MCAP recordings and the laser reference, pinned.
 VENV="$PWD/target/py-venv"
-PY_PACKAGES=(mcap==1.6.0 mcap-ros2-support==0.6.0
+PY_PACKAGES=(mcap==1.6.0 mcap-ros2-support==0.6.0 rosbags==0.11.9
   raycast2D==0.2.0 opencv-python-headless==5.1.0.95 numpy==2.4.6)
-if ! "$VENV/bin/python" -c 'import mcap, mcap_ros2, raycast2D, cv2, numpy' 2>/dev/null; then
+if ! "$VENV/bin/python" -c 'import mcap, mcap_ros2, rosbags, raycast2D, cv2, numpy' 2>/dev/null; then
   echo "test.sh: installing ${PY_PACKAGES[*]} into $VENV (the Python interop tests)"
   python3 -m venv "$VENV"
   for try in 1 2; do

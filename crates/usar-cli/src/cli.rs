@@ -94,6 +94,82 @@ pub enum Command {
     Btm(BtmCommand),
     /// The operator console: a live mission in the browser (`usar console --help`).
     Console(crate::commands::console::ConsoleArgs),
+    /// Real robot logs — CARMEN (.log/.clf, gzipped or not), DP-SLAM, Thrun's O/L logs,
+    /// rosbag2 in MCAP storage: what a log holds, and the log as ROS 2 messages in MCAP.
+    #[command(subcommand)]
+    Log(LogCommand),
+    /// Occupancy maps from real robot logs, with scan matching.
+    #[command(subcommand)]
+    Map(MapCommand),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum LogCommand {
+    /// Read a log into timed scans and odometry and say what it holds (format, beams, field of
+    /// view, the no-return value stated or found, times, odometry path); with --out, write it
+    /// as an MCAP file of ROS 2 messages (/scan, /odom, /tf, /tf_static, /clock) for Foxglove.
+    Import(LogImportArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct LogImportArgs {
+    /// The log: a text log, an .mcap file or a rosbag2 folder.
+    pub log: PathBuf,
+    /// Its format (carmen, dpslam, thrun, rosbag2); default: told by its content.
+    #[arg(long)]
+    pub format: Option<String>,
+    /// Write the log as ROS 2 messages into this MCAP file.
+    #[arg(long, value_name = "FILE.mcap")]
+    pub out: Option<PathBuf>,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum MapCommand {
+    /// Build an occupancy grid from a log: odometry corrected by scan matching, the grid as a
+    /// ROS map (map.yaml + map.pgm), pictures of the map with the paths, frontiers and
+    /// candidates (map.png) and of its rooms (rooms.png), the trajectory (trajectory.csv) and
+    /// the drift figures (summary.json).
+    Build(MapBuildArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MapBuildArgs {
+    /// The log (see `usar log import`).
+    #[arg(long, value_name = "LOG")]
+    pub from_log: PathBuf,
+    /// Its format; default: told by its content.
+    #[arg(long)]
+    pub format: Option<String>,
+    /// Output folder.
+    #[arg(long, default_value = "out/map")]
+    pub out: PathBuf,
+    /// Cell size, metres.
+    #[arg(long, default_value_t = 0.05)]
+    pub resolution: f64,
+    /// Returns farther than this are drawn as free space up to it, metres.
+    #[arg(long, default_value_t = 20.0)]
+    pub usable_range: f64,
+    /// correlative (Olson 2009, the default), icp (the simulated robots' matcher) or odometry
+    /// (no correction).
+    #[arg(long, default_value = "correlative")]
+    pub matcher: String,
+    /// Readings at or above this are no return, metres; default: the log's stated maximum, or
+    /// the saturation spike found in its readings.
+    #[arg(long)]
+    pub no_return: Option<f64>,
+    /// Only the scans up to this time, seconds: the map, frontiers and candidates as they
+    /// were then.
+    #[arg(long)]
+    pub until: Option<f64>,
+    /// Frontiers shorter than this are not shown as candidates, metres.
+    #[arg(long, default_value_t = 0.5)]
+    pub min_frontier: f64,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Subcommand)]

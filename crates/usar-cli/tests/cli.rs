@@ -5,6 +5,7 @@ mod campaign;
 mod console;
 mod golden;
 mod inputs;
+mod logs;
 mod maxq;
 mod mission;
 mod segment;

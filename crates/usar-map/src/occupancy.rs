@@ -318,7 +318,8 @@ impl OccupancyGrid {
     }
 
     /// Integrates one laser scan taken at `scan.pose` (the pose is trusted: localisation is
-    /// given, as in paper 002's simulations).
+    /// given, as in paper 002's simulations). A finite range is a return (misses up to it, a
+    /// hit where it ends), +∞ no return (misses up to `max_range_m`), NaN no reading at all.
     pub fn integrate_scan(&mut self, scan: &LaserScan) {
         let g = self.geometry;
         let inv_res = 1.0 / g.resolution_m;
@@ -334,6 +335,11 @@ impl OccupancyGrid {
         let mut cells = self.cells();
         for &range in &scan.ranges_m {
             let (dc, ds) = (c * bc - s * bs, s * bc + c * bs);
+            (bc, bs) = (bc * ci - bs * si, bs * ci + bc * si);
+            if range.is_nan() {
+                // No reading (a real log's invalid beam): neither a return nor free space.
+                continue;
+            }
             let hit = range.is_finite();
             let reach_t = if hit {
                 f64::from(range)
@@ -357,7 +363,6 @@ impl OccupancyGrid {
                     cells.miss_at(i);
                 }
             }
-            (bc, bs) = (bc * ci - bs * si, bs * ci + bc * si);
         }
         hits.sort_unstable();
         hits.dedup();

@@ -99,9 +99,141 @@ impl CdrWriter {
     }
 }
 
+/// A message being decoded: the reverse of [`CdrWriter`], little or big endian as its header
+/// says. Every read is bounds-checked; a sequence's declared length is checked against the
+/// bytes left before anything is allocated.
+pub struct CdrReader<'a> {
+    body: &'a [u8],
+    at: usize,
+    little: bool,
+}
+
+/// Why a message could not be decoded.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CdrError {
+    #[error("the message ends at byte {0} before its {1}")]
+    Truncated(usize, &'static str),
+    #[error("encapsulation header {0:02x?} (expected plain CDR, little or big endian)")]
+    Encapsulation([u8; 4]),
+    #[error("{0} is not UTF-8 text")]
+    Text(&'static str),
+}
+
+impl<'a> CdrReader<'a> {
+    pub fn new(message: &'a [u8]) -> Result<Self, CdrError> {
+        let header: [u8; 4] = message
+            .get(..4)
+            .and_then(|h| h.try_into().ok())
+            .ok_or(CdrError::Truncated(0, "encapsulation header"))?;
+        let little = match header[..2] {
+            [0x00, 0x01] => true,
+            [0x00, 0x00] => false,
+            _ => return Err(CdrError::Encapsulation(header)),
+        };
+        Ok(Self {
+            body: &message[4..],
+            at: 0,
+            little,
+        })
+    }
+
+    fn take<const N: usize>(&mut self, what: &'static str) -> Result<[u8; N], CdrError> {
+        let start = self.at.next_multiple_of(N.min(8));
+        let bytes = self
+            .body
+            .get(start..start + N)
+            .ok_or(CdrError::Truncated(start + 4, what))?;
+        self.at = start + N;
+        let mut b: [u8; N] = bytes.try_into().expect("N bytes");
+        if !self.little {
+            b.reverse();
+        }
+        Ok(b)
+    }
+
+    pub fn u8(&mut self, what: &'static str) -> Result<u8, CdrError> {
+        Ok(self.take::<1>(what)?[0])
+    }
+
+    pub fn i32(&mut self, what: &'static str) -> Result<i32, CdrError> {
+        self.take(what).map(i32::from_le_bytes)
+    }
+
+    pub fn u32(&mut self, what: &'static str) -> Result<u32, CdrError> {
+        self.take(what).map(u32::from_le_bytes)
+    }
+
+    pub fn f32(&mut self, what: &'static str) -> Result<f32, CdrError> {
+        self.take(what).map(f32::from_le_bytes)
+    }
+
+    pub fn f64(&mut self, what: &'static str) -> Result<f64, CdrError> {
+        self.take(what).map(f64::from_le_bytes)
+    }
+
+    /// A sequence's element count, refused when its `element_bytes`-byte elements would not
+    /// fit in what is left of the message.
+    pub fn len(&mut self, element_bytes: usize, what: &'static str) -> Result<usize, CdrError> {
+        let n = self.u32(what)? as usize;
+        let left = self.body.len().saturating_sub(self.at);
+        if n.saturating_mul(element_bytes.max(1)) > left {
+            return Err(CdrError::Truncated(self.body.len() + 4, what));
+        }
+        Ok(n)
+    }
+
+    pub fn string(&mut self, what: &'static str) -> Result<&'a str, CdrError> {
+        let n = self.len(1, what)?;
+        let bytes = &self.body[self.at..self.at + n];
+        self.at += n;
+        let text = bytes.strip_suffix(&[0]).unwrap_or(bytes);
+        std::str::from_utf8(text).map_err(|_| CdrError::Text(what))
+    }
+
+    pub fn f32s(&mut self, what: &'static str) -> Result<Vec<f32>, CdrError> {
+        let n = self.len(4, what)?;
+        (0..n).map(|_| self.f32(what)).collect()
+    }
+
+    /// Skips `n` values of `N` bytes.
+    pub fn skip<const N: usize>(&mut self, n: usize, what: &'static str) -> Result<(), CdrError> {
+        for _ in 0..n {
+            self.take::<N>(what)?;
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::CdrWriter;
+    use super::{CdrError, CdrReader, CdrWriter};
+
+    #[test]
+    fn what_is_written_reads_back_and_a_short_message_is_refused() {
+        let mut w = CdrWriter::new();
+        w.u32(7)
+            .f64(1.5)
+            .string("base_link")
+            .f32s(&[1.0, 2.5])
+            .i32(-3);
+        let b = w.finish();
+        let mut r = CdrReader::new(&b).unwrap();
+        assert_eq!(r.u32("a").unwrap(), 7);
+        assert_eq!(r.f64("b").unwrap(), 1.5);
+        assert_eq!(r.string("c").unwrap(), "base_link");
+        assert_eq!(r.f32s("d").unwrap(), vec![1.0, 2.5]);
+        assert_eq!(r.i32("e").unwrap(), -3);
+        assert!(matches!(r.u8("f"), Err(CdrError::Truncated(_, "f"))));
+        // A sequence that declares more elements than the message holds.
+        let mut w = CdrWriter::new();
+        w.u32(1_000_000_000);
+        let b = w.finish();
+        assert!(CdrReader::new(&b).unwrap().f32s("ranges").is_err());
+        assert!(matches!(
+            CdrReader::new(&[7, 7, 0, 0]),
+            Err(CdrError::Encapsulation(_))
+        ));
+    }
 
     #[test]
     fn primitives_align_to_their_size_after_the_header() {

@@ -1,6 +1,6 @@
 //! A recorded mission read back by independent clients: the MCAP project's Python readers
 //! (`mcap` and `mcap-ros2-support`, the libraries behind Foxglove's own tooling) decode every
-//! message with the schemas the file carries. `./test.sh` installs them into a virtual
+//! message with the schemas the file carries, and so does `rosbags`, a reader of its own. `./test.sh` installs them into a virtual
 //! environment and sets `USAR_PYTHON`.
 
 use std::sync::Arc;
@@ -91,4 +91,20 @@ fn python_mcap_decodes_every_message_of_a_recorded_mission() {
     assert!(v["btm_markers"].as_u64().unwrap() >= 3, "{v}");
     // Markers once a simulated second, from the first step to the last.
     assert_eq!(count("/victims"), 31);
+
+    // The rosbags package decodes every message too, in time order.
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/read_rosbags.py");
+    let out = std::process::Command::new(&python)
+        .arg(script)
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["counts"], v["counts"], "{r}");
+    assert_eq!(r["monotonic"], true);
 }

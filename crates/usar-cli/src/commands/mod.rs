@@ -7,6 +7,7 @@ mod campaign;
 pub mod console;
 mod demo;
 mod explore;
+mod logs;
 mod maxq;
 mod mission;
 mod plan;
@@ -31,6 +32,8 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Maxq(cmd) => maxq::run(cmd),
         Command::Btm(cmd) => btm::run(cmd),
         Command::Console(args) => console::run(args),
+        Command::Log(cmd) => logs::import(cmd),
+        Command::Map(cmd) => logs::map(cmd),
     }
 }
 
