@@ -195,6 +195,14 @@ pub struct BtmBuildArgs {
     /// name (course, office, mall, rubble).
     #[arg(long, default_value = "course")]
     pub scene: String,
+    /// Instead of driving in a scene: build the BTM passively along the path of a real robot
+    /// log (see `usar log import`), its poses from `usar map build`'s scan matching; no
+    /// obstacle nodes (a log has no tilted laser). --robot gives the width of a passage.
+    #[arg(long, value_name = "LOG", conflicts_with_all = ["scene", "start", "max_minutes", "trace"])]
+    pub from_log: Option<PathBuf>,
+    /// The log's scan matcher (with --from-log): correlative, icp or odometry.
+    #[arg(long, default_value = "correlative", requires = "from_log")]
+    pub matcher: String,
     /// Seed of a generated scene (ignored for files).
     #[arg(long, default_value_t = 1)]
     pub scene_seed: u64,

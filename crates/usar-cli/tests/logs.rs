@@ -63,9 +63,57 @@ fn a_real_log_imports_to_mcap_and_maps_with_its_pictures() {
     ]);
     assert_eq!(scene["grid"]["width"], s["width_cells"]);
     let free = scene["free_area_m2"].as_f64().unwrap();
-    assert!((free - s["free_area_m2"].as_f64().unwrap()).abs() < 1e-6, "{scene}");
+    assert!(
+        (free - s["free_area_m2"].as_f64().unwrap()).abs() < 1e-6,
+        "{scene}"
+    );
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
     assert_eq!(csv.lines().count(), 552);
+}
+
+/// A BTM built passively along the Duke loop: a start and an end, divergence nodes at the
+/// loop's corners, every link searched between them; the map file reads back and validates.
+#[test]
+fn a_passive_btm_follows_a_real_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("duke.sqlite");
+    let png = dir.path().join("duke.png");
+    let log = duke();
+    let v = usar_json(&[
+        "btm",
+        "build",
+        "--from-log",
+        log.to_str().unwrap(),
+        "--robot",
+        "wheeled",
+        "--out",
+        out.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(v["scans"], 551);
+    let nodes = v["nodes"].as_array().unwrap();
+    let kinds = |k: &str| nodes.iter().filter(|n| n["kind"] == k).count();
+    assert_eq!(kinds("terminal"), 2, "{v}");
+    // The loop turns four corners; side doors and halls add more.
+    assert!(kinds("divergence") >= 4, "{v}");
+    assert!(png.is_file());
+    let back = usar_json(&["btm", "export", out.to_str().unwrap(), "--json"]);
+    assert_eq!(back["nodes"].as_array().unwrap().len(), nodes.len());
+    // The searched links chain the nodes along the path: one fewer than the nodes passed,
+    // or more where a loop closed onto a known node.
+    let searched = back["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|l| l["searched"] == true)
+        .count();
+    assert!(
+        searched + 1 >= nodes.len(),
+        "{searched} links for {} nodes",
+        nodes.len()
+    );
 }
 
 #[test]

@@ -156,6 +156,24 @@ pub struct LogMap {
 }
 
 impl LogMap {
+    /// The scans drawn (as the mapper saw them: metres, +∞ no return within the usable range,
+    /// NaN no reading), each stamped with its estimated pose — what a builder that works on
+    /// poses and scans (a passive BTM) takes. `log` and `params` must be those of the map.
+    pub fn drawn_scans(
+        &self,
+        log: &RobotLog,
+        params: &MapParams,
+    ) -> Result<Vec<LaserScan>, LogError> {
+        let threshold = self.no_return.threshold_m;
+        Ok(log
+            .scans()?
+            .into_iter()
+            .filter(|s| params.until_s.is_none_or(|t| s.scan.t_s <= t))
+            .zip(&self.trajectory)
+            .map(|(s, at)| usable_scan(&s, threshold, params.usable_range_m, at.estimate))
+            .collect())
+    }
+
     /// The frontiers of the map (free cells beside unknown ones, 8-connected clusters of at
     /// least `min_length_m`), each with its candidate cell, as the explorers see them.
     pub fn frontiers(&self, min_length_m: f64) -> Vec<usar_map::FrontierCluster> {

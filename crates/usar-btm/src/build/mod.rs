@@ -28,6 +28,7 @@ mod explorer;
 pub mod free_space;
 pub mod links;
 pub mod obstacle;
+pub mod passive;
 pub mod planner;
 
 pub use self::config::BuildConfig;

@@ -28,7 +28,7 @@ fn read(path: &Path) -> CmdResult<Btm> {
 }
 
 /// Report errors keep their kind: bad input exits 2, anything else 1.
-fn fail(e: ReportError) -> Failure {
+pub(super) fn fail(e: ReportError) -> Failure {
     if e.is_input() {
         bad_input(e)
     } else {
@@ -36,7 +36,7 @@ fn fail(e: ReportError) -> Failure {
     }
 }
 
-fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
+pub(super) fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
     let mut config = match &args.config {
         Some(path) => scene_source::read_toml::<BuildConfig>(path)?,
         None => BuildConfig::default(),
@@ -53,6 +53,9 @@ fn build_config(args: &BtmBuildArgs) -> CmdResult<BuildConfig> {
 }
 
 fn build(args: BtmBuildArgs) -> CmdResult {
+    if let Some(log) = &args.from_log {
+        return super::logs::btm_from_log(log, &args);
+    }
     let mut scene = scene_source::load(&args.scene, args.scene_seed, &args.image)?;
     if let Some((x, y, theta)) = args.start {
         scene.start_poses.insert(0, Pose2::new(x, y, theta));

@@ -2,13 +2,13 @@
 //! [`usar_log`].
 
 use super::print_json;
-use crate::cli::{LogCommand, MapBuildArgs, MapCommand};
+use crate::cli::{BtmBuildArgs, LogCommand, MapBuildArgs, MapCommand};
 use crate::failure::{CmdResult, InputContext, bad_input};
 use crate::progress;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
-use usar_log::mapping::{Drift, MapParams, Matcher, build_map};
+use usar_log::mapping::{Drift, LogMap, MapParams, Matcher, build_map};
 use usar_log::{LogFormat, RobotLog, read_log};
 use usar_map::segmentation::{SegmentationParams, segment_free_space};
 use usar_world::{Grid, Scene, obstacle, partial_path, write_atomic};
@@ -151,13 +151,7 @@ pub fn map(cmd: MapCommand) -> CmdResult {
         Ok(())
     };
     png(usar_log::output::picture(&map, &frontiers, 1600), "map.png")?;
-    let mut walls = Scene::empty("log map", g);
-    for i in 0..g.len() {
-        if map.grid.class_at_index(i) != usar_map::CellClass::Free {
-            walls.obstacle.as_mut_slice()[i] = obstacle::WALL;
-        }
-    }
-    png(rooms.draw(&walls), "rooms.png")?;
+    png(rooms.draw(&walls_scene(&map)), "rooms.png")?;
     let mut csv = String::from(
         "t_s,odometry_x,odometry_y,odometry_theta,estimate_x,estimate_y,estimate_theta,logged_x,logged_y,logged_theta\n",
     );
@@ -288,4 +282,98 @@ fn print_map_summary(s: &MapSummary, out: &Path) {
         s.seconds,
         out.display()
     );
+}
+
+/// The map as a scene to draw on: every cell not seen free is a wall.
+fn walls_scene(map: &LogMap) -> Scene {
+    let g = *map.grid.geometry();
+    let mut walls = Scene::empty("log map", g);
+    for (i, o) in walls.obstacle.as_mut_slice().iter_mut().enumerate() {
+        if map.grid.class_at_index(i) != usar_map::CellClass::Free {
+            *o = obstacle::WALL;
+        }
+    }
+    walls
+}
+
+/// `usar btm build --from-log`: a BTM built passively along a log's path.
+pub fn btm_from_log(path: &Path, args: &BtmBuildArgs) -> CmdResult {
+    use usar_btm::build::passive::PassiveBuilder;
+    use usar_btm::report::{self, Sizes};
+    use usar_btm::store::BtmStore;
+    let started = Instant::now();
+    let config = super::btm::build_config(args)?;
+    let robot = crate::scene_source::load_robot(&args.robot)?;
+    let matcher = Matcher::from_name(&args.matcher).ok_or_else(|| {
+        bad_input(anyhow::anyhow!(
+            "--matcher {}: expected {}",
+            args.matcher,
+            Matcher::NAMES.join(", ")
+        ))
+    })?;
+    let params = MapParams {
+        matcher,
+        ..MapParams::default()
+    };
+    let log = read(path, None)?;
+    let bar = progress::bar(2, "passive BTM", args.json);
+    let map = build_map(&log, &params).input()?;
+    let scans = map.drawn_scans(&log, &params).input()?;
+    bar.inc(1);
+    let partial = partial_path(&args.out);
+    let _ = std::fs::remove_file(&partial);
+    let store = BtmStore::create(&partial).input()?;
+    let mut builder = PassiveBuilder::new(config, robot.width_m, Some(&store));
+    for scan in &scans {
+        builder.observe(
+            scan.pose,
+            &usar_map::localization::ScanView::from_scan(scan),
+        )?;
+    }
+    let btm = builder.finish()?;
+    drop(store);
+    std::fs::rename(&partial, &args.out)?;
+    bar.finish_and_clear();
+    let scene = walls_scene(&map);
+    if let Some(png) = &args.png {
+        let trace: Vec<usar_world::Point2> = map
+            .trajectory
+            .iter()
+            .map(|t| t.estimate.position())
+            .collect();
+        report::save_drawing(&btm, Some(&scene), &trace, png).map_err(super::btm::fail)?;
+    }
+    let sizes =
+        Sizes::measure(&btm, &args.out, scene.geometry().len()).map_err(super::btm::fail)?;
+    let by_kind = |k: &str| btm.nodes.iter().filter(|n| n.kind == k).count();
+    let searched = btm.links.iter().filter(|l| l.searched).count();
+    if args.json {
+        let mut v = report::describe(&btm);
+        v["log"] = serde_json::json!(path);
+        v["robot"] = serde_json::json!(robot.name);
+        v["matcher"] = serde_json::json!(params.matcher.name());
+        v["scans"] = serde_json::json!(scans.len());
+        v["distance_m"] = serde_json::json!(map.drift.path_m);
+        v["seconds"] = serde_json::json!(started.elapsed().as_secs_f64());
+        v["bytes"] = serde_json::json!(sizes);
+        v["out"] = serde_json::json!(args.out);
+        return print_json(&v);
+    }
+    println!(
+        "{}: {} nodes ({} divergence, {} free space, {} terminal), {} links searched, {} un-searched, along {:.0} m of {} scans → {}; {} bytes as .btmb against {} for the grid; {:.1} s",
+        path.display(),
+        btm.nodes.len(),
+        by_kind(usar_btm::model::kind::DIVERGENCE),
+        by_kind(usar_btm::model::kind::FREE_SPACE),
+        by_kind(usar_btm::model::kind::TERMINAL),
+        searched,
+        btm.links.len() - searched,
+        map.drift.path_m,
+        scans.len(),
+        args.out.display(),
+        sizes.btm_binary,
+        sizes.occupancy_grid,
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
