@@ -5,6 +5,7 @@
 //! prints).
 
 pub mod laser_reference;
+pub mod recording;
 pub mod scaling;
 
 use rand::{Rng, SeedableRng};
@@ -91,6 +92,9 @@ pub enum BenchError {
     /// The Python laser reference could not run or printed no rate.
     #[error("laser reference: {0}")]
     Reference(String),
+    /// The mission of the recording benchmark could not run or be recorded.
+    #[error("{0}")]
+    Mission(String),
 }
 
 /// The number of stages [`run_observed`] reports, for a progress bar.

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 use usar_sim::RobotSpec;
-use usar_world::{Point2, Pose2, Scene, WorldError};
+use usar_world::{Point2, Scene, WorldError};
 
 /// Why a map could not be built into its file or drawn.
 #[derive(Debug, thiserror::Error)]
@@ -54,7 +54,7 @@ pub fn build_to_file(
     config: &BuildConfig,
     seed: u64,
     out: &Path,
-    on_progress: &mut dyn FnMut(f64, Pose2, &Btm),
+    on_progress: &mut dyn FnMut(&crate::build::BuildProgress<'_>),
 ) -> Result<BuildOutcome, ReportError> {
     let partial = partial_path(out);
     if partial.exists() {

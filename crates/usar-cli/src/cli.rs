@@ -235,6 +235,11 @@ pub struct BtmBuildArgs {
     /// (x_m, y_m, theta_rad) and the run mode at every step.
     #[arg(long)]
     pub trace: Option<PathBuf>,
+    /// Record the build into this MCAP file of ROS 2 messages: /clock and /tf (the crawler's
+    /// true pose) four times a simulated second; its scan, its own pose estimate and the BTM
+    /// so far as markers every second.
+    #[arg(long, value_name = "FILE.mcap", conflicts_with = "from_log")]
+    pub record: Option<PathBuf>,
     /// Print the build as JSON: `nodes_by_kind`, `links_searched`, `links_unsearched`, every
     /// node and link (fields as `usar btm export --json`), the stop reason, time, distance,
     /// collisions and `bytes` (the map's sizes as .btmb, JSON and SQLite against the grid's).
@@ -816,6 +821,10 @@ pub struct ExploreArgs {
     /// Write a report folder (map, coverage CSV and plot, summary.json) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Record the run into this MCAP file of ROS 2 messages (/clock, /tf, each robot's scan
+    /// and odometry, the goals, the merged map; see `usar mission run --record`).
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
     /// Print the outcome as JSON (no progress bar).
     #[arg(long)]
     pub json: bool,
@@ -893,6 +902,10 @@ pub struct BenchArgs {
     /// (the whole table runs each cell in a process of its own, for its peak memory).
     #[arg(long, requires = "scaling")]
     pub pipeline: Option<String>,
+    /// Instead: what recording costs — the demo's mission timed alone and with `--record`,
+    /// alternately, three times each (the MAXQ robot's training included, as `usar demo`).
+    #[arg(long, conflicts_with_all = ["scaling", "laser_reference"])]
+    pub recording: bool,
     /// Instead: the laser (`lidar_scans_per_s`) beside the Python reference — raycast2D's C
     /// raycaster with an OpenCV occupancy update — on the same floor and poses, in this run.
     #[arg(long, conflicts_with = "scaling")]
@@ -990,6 +1003,10 @@ pub struct TeamRunArgs {
     /// file.
     #[arg(long)]
     pub trace: Option<std::path::PathBuf>,
+    /// Record the run into this MCAP file of ROS 2 messages (/clock, /tf, each robot's scan
+    /// and odometry, the goals, the merged map; see `usar mission run --record`).
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
     /// Print the run as JSON (no progress bar).
     #[arg(long)]
     pub json: bool,

@@ -5,6 +5,7 @@ mod cli;
 mod commands;
 mod failure;
 mod progress;
+mod record_file;
 mod runners;
 mod scene_source;
 

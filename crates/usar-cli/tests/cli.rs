@@ -8,6 +8,7 @@ mod inputs;
 mod logs;
 mod maxq;
 mod mission;
+mod record;
 mod segment;
 
 use std::path::{Path, PathBuf};

@@ -17,13 +17,17 @@
 //! assert!(recorder.finish().unwrap() > 100);
 //! ```
 
+mod btm;
 pub mod cdr;
 mod mission;
 pub mod msgs;
 mod recording;
+mod team;
 
+pub use self::btm::BtmRecorder;
 pub use self::mission::MissionRecorder;
 pub use self::recording::Recording;
+pub use self::team::TeamRecorder;
 
 /// Why a recording failed.
 #[derive(Debug, thiserror::Error)]

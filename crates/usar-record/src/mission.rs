@@ -15,22 +15,22 @@
 //! `/tf` gives the robots' true poses (the recording is the evaluation's picture of the run);
 //! scans, odometry, the map, the BTM, the victims and the goals are what the robots reported.
 
-use crate::msgs::{self, Frame, Marker, Shape};
+use crate::btm::btm_markers;
+use crate::msgs;
+use crate::team::{
+    Schedule, goal_markers, merged_map, sphere, write_clock_and_tf, write_odometry,
+    write_team_scans,
+};
 use crate::{RecordError, Recording};
 use std::io::{Seek, Write};
-use usar_map::CellClass;
 use usar_mission::{LiveMission, MissionHook};
 use usar_rescue::VictimMark;
-
-/// The rates of the table in the [module documentation](self), simulated seconds.
-const SENSOR_PERIOD_S: f64 = 1.0;
-const MAP_PERIOD_S: f64 = 2.5;
+use usar_sim::SimRobot;
 
 /// See the [module documentation](self).
 pub struct MissionRecorder<W: Write + Seek> {
     recording: Recording<W>,
-    next_sensors_s: f64,
-    next_map_s: f64,
+    schedule: Schedule,
     /// The first write that failed: the mission is ended and the error reported.
     pub error: Option<RecordError>,
 }
@@ -39,8 +39,7 @@ impl<W: Write + Seek> MissionRecorder<W> {
     pub fn new(recording: Recording<W>) -> Self {
         Self {
             recording,
-            next_sensors_s: 0.0,
-            next_map_s: 0.0,
+            schedule: Schedule::default(),
             error: None,
         }
     }
@@ -55,66 +54,30 @@ impl<W: Write + Seek> MissionRecorder<W> {
 
     fn record(&mut self, live: &LiveMission<'_, '_>) -> Result<(), RecordError> {
         let t = live.time_s();
-        let rec = &mut self.recording;
-        rec.write("/clock", msgs::clock_type, t, &msgs::clock(t))?;
-        let robots = robots(live);
         let truth = live.evaluator();
-        let frames: Vec<Frame<'_>> = robots
-            .iter()
-            .map(|(name, id)| {
-                let p = truth.robot(*id).pose;
-                Frame {
-                    parent: "map",
-                    child: name,
-                    x: p.x,
-                    y: p.y,
-                    yaw: p.theta,
-                }
-            })
+        let robots: Vec<(String, &SimRobot)> = robots(live)
+            .into_iter()
+            .map(|(name, id)| (name, truth.robot(id)))
             .collect();
-        rec.write("/tf", msgs::tf_type, t, &msgs::tf(t, &frames))?;
-        if t + 1e-9 >= self.next_sensors_s {
-            self.next_sensors_s += SENSOR_PERIOD_S;
-            let team = live.team();
-            for k in 0..live.team_len() {
-                if let Some(scan) = team.last_scan(k) {
-                    let frame = format!("team_{}", k + 1);
-                    let data = msgs::laser_scan(
-                        t,
-                        &frame,
-                        scan.angle_min_rad,
-                        scan.angle_increment_rad,
-                        scan.max_range_m,
-                        &scan.ranges_m,
-                    );
-                    rec.write(&format!("/{frame}/scan"), msgs::laser_scan_type, t, &data)?;
-                }
-            }
-            for (name, id) in &robots {
-                let r = truth.robot(*id);
-                let e = r.odometry.estimate;
-                let v = r.last_motion();
-                let data = msgs::odometry(
-                    t,
-                    "map",
-                    name,
-                    (e.x, e.y, e.theta),
-                    (v.linear_mps, v.angular_radps),
-                );
-                rec.write(&format!("/{name}/odom"), msgs::odometry_type, t, &data)?;
-            }
-            rec.write("/btm", msgs::marker_array_type, t, &btm_markers(t, live))?;
+        let rec = &mut self.recording;
+        write_clock_and_tf(rec, t, &robots)?;
+        if self.schedule.sensors_due(t) {
+            write_team_scans(rec, t, live.team(), live.team_len())?;
+            write_odometry(rec, t, &robots)?;
+            let btm = live.crawler().map(|c| c.btm());
+            rec.write("/btm", msgs::marker_array_type, t, &btm_markers(t, btm))?;
             rec.write(
                 "/victims",
                 msgs::marker_array_type,
                 t,
                 &victim_markers(t, live),
             )?;
-            rec.write("/goals", msgs::marker_array_type, t, &goal_markers(t, live))?;
+            let goals = goal_markers(t, live.team(), live.team_len());
+            rec.write("/goals", msgs::marker_array_type, t, &goals)?;
         }
-        if t + 1e-9 >= self.next_map_s {
-            self.next_map_s += MAP_PERIOD_S;
-            rec.write("/map", msgs::occupancy_grid_type, t, &merged_map(t, live))?;
+        if self.schedule.map_due(t) {
+            let map = merged_map(t, live.team().base_station());
+            rec.write("/map", msgs::occupancy_grid_type, t, &map)?;
         }
         Ok(())
     }
@@ -143,84 +106,6 @@ fn robots(live: &LiveMission<'_, '_>) -> Vec<(String, usar_sim::RobotId)> {
     out.extend(live.crawler_robot().map(|id| ("crawler".to_string(), id)));
     out.extend(live.rescuer_robot().map(|id| ("rescuer".to_string(), id)));
     out
-}
-
-/// The base station's merged map: −1 unknown, 0 free, 100 occupied.
-fn merged_map(t: f64, live: &LiveMission<'_, '_>) -> Vec<u8> {
-    let merged = &live.team().base_station().merged;
-    let g = *merged.geometry();
-    let data: Vec<i8> = (0..g.len())
-        .map(|i| match merged.class_at_index(i) {
-            CellClass::Unknown => -1,
-            CellClass::Free => 0,
-            CellClass::Occupied => 100,
-        })
-        .collect();
-    msgs::occupancy_grid(
-        t,
-        "map",
-        g.resolution_m,
-        (g.width, g.height),
-        (g.origin.x, g.origin.y),
-        &data,
-    )
-}
-
-fn sphere(
-    ns: &'static str,
-    id: i32,
-    (x, y): (f64, f64),
-    size: f64,
-    rgba: [f32; 4],
-) -> Marker<'static> {
-    Marker {
-        ns,
-        id,
-        shape: Shape::Sphere,
-        at: (x, y, 0.1),
-        scale: (size, size, size),
-        rgba,
-        points: Vec::new(),
-        text: String::new(),
-    }
-}
-
-/// The crawler's BTM: a sphere per node, one line list of its links between nodes.
-fn btm_markers(t: f64, live: &LiveMission<'_, '_>) -> Vec<u8> {
-    let Some(btm) = live.crawler().map(|c| c.btm()) else {
-        return msgs::marker_array(t, "map", &[]);
-    };
-    let mut markers: Vec<Marker<'_>> = btm
-        .nodes
-        .iter()
-        .map(|n| {
-            sphere(
-                "btm_nodes",
-                n.id as i32,
-                (n.x_m, n.y_m),
-                0.3,
-                [0.3, 0.95, 0.55, 1.0],
-            )
-        })
-        .collect();
-    let mut points = Vec::new();
-    for l in &btm.links {
-        if let (Some(a), Some(b)) = (btm.node(l.start), l.end.and_then(|e| btm.node(e))) {
-            points.push((a.x_m, a.y_m));
-            points.push((b.x_m, b.y_m));
-        }
-    }
-    markers.push(Marker {
-        ns: "btm_links",
-        id: 0,
-        shape: Shape::LineList,
-        at: (0.0, 0.0, 0.05),
-        scale: (0.08, 0.0, 0.0),
-        rgba: [0.3, 0.95, 0.55, 0.8],
-        points,
-        text: String::new(),
-    });
-    msgs::marker_array(t, "map", &markers)
 }
 
 /// Yellow: undecided; green: a victim (tagged or confirmed); grey: dismissed.
@@ -263,22 +148,5 @@ fn victim_markers(t: f64, live: &LiveMission<'_, '_>) -> Vec<u8> {
             ));
         }
     }
-    msgs::marker_array(t, "map", &markers)
-}
-
-fn goal_markers(t: f64, live: &LiveMission<'_, '_>) -> Vec<u8> {
-    let team = live.team();
-    let markers: Vec<Marker<'_>> = (0..live.team_len())
-        .filter_map(|k| {
-            let g = team.robot_goal(k)?;
-            Some(sphere(
-                "goals",
-                k as i32,
-                (g.x, g.y),
-                0.25,
-                [0.24, 0.65, 1.0, 0.9],
-            ))
-        })
-        .collect();
     msgs::marker_array(t, "map", &markers)
 }

@@ -127,20 +127,34 @@ pub fn build_btm(
     seed: u64,
     store: Option<&BtmStore>,
 ) -> Result<BuildOutcome, BuildError> {
-    build_btm_observed(scene, robot, config, seed, store, &mut |_, _, _| {})
+    build_btm_observed(scene, robot, config, seed, store, &mut |_| {})
 }
 
-/// [`build_btm`], calling `on_progress` with the simulated time (seconds), the robot's pose as
-/// it estimates it (the frame of its map) and the map built so far four times per simulated
-/// second, e.g. for a progress bar up to [`BuildConfig::max_time_s`] or to show the robot and
-/// its map live, as an operator sees them.
+/// What [`build_btm_observed`] shows four times per simulated second.
+pub struct BuildProgress<'a> {
+    /// Simulated seconds.
+    pub time_s: f64,
+    /// The robot's pose as it estimates it (the frame of its map).
+    pub estimated: Pose2,
+    /// Its true pose (the evaluation's).
+    pub truth: Pose2,
+    /// The map built so far.
+    pub btm: &'a Btm,
+    /// Its last horizontal scan, in its frame.
+    pub scan: &'a usar_map::localization::ScanView,
+}
+
+/// [`build_btm`], calling `on_progress` four times per simulated second with the time, the
+/// robot's poses, its last scan and the map built so far ([`BuildProgress`]), e.g. for a
+/// progress bar up to [`BuildConfig::max_time_s`], to show the robot and its map live as an
+/// operator sees them, or to record the run.
 pub fn build_btm_observed(
     scene: Arc<Scene>,
     robot: RobotSpec,
     config: &BuildConfig,
     seed: u64,
     store: Option<&BtmStore>,
-    on_progress: &mut dyn FnMut(f64, Pose2, &Btm),
+    on_progress: &mut dyn FnMut(&BuildProgress<'_>),
 ) -> Result<BuildOutcome, BuildError> {
     config.validate()?;
     let start = *scene
@@ -177,7 +191,13 @@ pub fn build_btm_observed(
         }
         if now >= reported_s + 0.25 {
             reported_s = (now * 4.0).floor() / 4.0;
-            on_progress(now, explorer.estimated_pose(), explorer.btm());
+            on_progress(&BuildProgress {
+                time_s: now,
+                estimated: explorer.estimated_pose(),
+                truth: pose,
+                btm: explorer.btm(),
+                scan: explorer.last_scan(),
+            });
         }
         host.advance();
     };

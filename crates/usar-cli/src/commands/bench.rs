@@ -12,6 +12,25 @@ pub fn run(args: BenchArgs) -> CmdResult {
     if args.laser_reference {
         return laser_reference(&args);
     }
+    if args.recording {
+        let reps = if args.quick { 1 } else { 3 };
+        let bar = progress::bar(2 * reps as u64, "runs", args.json);
+        let r = usar_bench::recording::recording_overhead(reps, || bar.inc(1))?;
+        bar.finish_and_clear();
+        if args.json {
+            return print_json(&r);
+        }
+        println!(
+            "the demo's mission, median of {}: {:.2} s alone, {:.2} s recorded ({} messages, {:.1} MB): {:+.1} % (limit +20 %)",
+            r.runs_each,
+            r.plain_s,
+            r.recorded_s,
+            r.messages,
+            r.bytes as f64 / 1e6,
+            100.0 * r.overhead
+        );
+        return Ok(());
+    }
     let bar = progress::bar(usar_bench::STAGES, "benchmarking", args.json);
     let report = usar_bench::run_observed(args.quick, || bar.inc(1))?;
     bar.finish_and_clear();

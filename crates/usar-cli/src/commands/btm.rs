@@ -3,6 +3,7 @@
 use super::print_json;
 use crate::cli::{BtmBuildArgs, BtmCommand, BtmExportArgs, BtmMergeArgs, BtmPlanArgs, BtmShowArgs};
 use crate::failure::{CmdResult, Failure, InputContext, bad_input};
+use crate::record_file::RecordFile;
 use crate::{progress, scene_source};
 use serde_json::json;
 use std::path::Path;
@@ -64,15 +65,35 @@ fn build(args: BtmBuildArgs) -> CmdResult {
     let config = build_config(&args)?;
     let scene = Arc::new(scene);
     let bar = progress::bar(config.max_time_s.ceil() as u64, "simulated s", args.json);
+    let mut recording = match &args.record {
+        Some(path) => {
+            let (file, recording) = RecordFile::create(path)?;
+            Some((file, usar_record::BtmRecorder::new(recording)))
+        }
+        None => None,
+    };
     let built = report::build_to_file(
         scene.clone(),
         robot.clone(),
         &config,
         args.seed,
         &args.out,
-        &mut |t, _, _| bar.set_position(t as u64),
+        &mut |p| {
+            bar.set_position(p.time_s as u64);
+            if let Some((_, recorder)) = &mut recording {
+                recorder.observe(p);
+            }
+        },
     );
     bar.finish_and_clear();
+    if let Some((file, recorder)) = recording {
+        match &built {
+            Ok(_) => {
+                file.done(recorder.finish())?;
+            }
+            Err(_) => file.abandon(),
+        }
+    }
     let outcome = built.map_err(fail)?;
     if let Some(png) = &args.png {
         let trace: Vec<Point2> = outcome

@@ -3,22 +3,37 @@
 use super::print_json;
 use crate::cli::ExploreArgs;
 use crate::failure::{CmdResult, InputContext, bad_input};
+use crate::record_file::RecordFile;
 use crate::{progress, scene_source};
+use std::path::Path;
 use std::sync::Arc;
+use usar_record::TeamRecorder;
 use usar_team::{TeamConfig, TeamMission, TeamOutcome};
 use usar_world::Scene;
 
-/// Runs one mission with a progress bar (hidden when `quiet`).
+/// Runs one mission with a progress bar (hidden when `quiet`), recorded into `record` when
+/// given (written as `FILE.partial`, named when the run ends).
 pub fn run_mission(
     scene: Arc<Scene>,
     config: TeamConfig,
     seed: u64,
     quiet: bool,
+    record: Option<&Path>,
 ) -> CmdResult<TeamOutcome> {
     let total = config.duration_s;
     let mission = TeamMission::new(scene, config, seed).input()?;
     let bar = progress::bar(total.round() as u64, "exploring", quiet);
-    let outcome = mission.run(|t| bar.set_position(t.round() as u64));
+    let progress = |t: f64| bar.set_position(t.round() as u64);
+    let outcome = match record {
+        None => mission.run(progress),
+        Some(path) => {
+            let (file, recording) = RecordFile::create(path)?;
+            let mut recorder = TeamRecorder::new(recording);
+            let outcome = mission.run_observed(progress, |m| recorder.observe(m));
+            file.done(recorder.finish())?;
+            outcome
+        }
+    };
     bar.finish_and_clear();
     Ok(outcome)
 }
@@ -52,7 +67,13 @@ pub fn run(args: ExploreArgs) -> CmdResult {
         stall_after_s: (args.stall_minutes > 0.0).then_some(args.stall_minutes * 60.0),
         ..TeamConfig::default()
     };
-    let outcome = run_mission(scene.clone(), config, args.seed, args.json)?;
+    let outcome = run_mission(
+        scene.clone(),
+        config,
+        args.seed,
+        args.json,
+        args.record.as_deref(),
+    )?;
     if let Some(dir) = &args.out {
         usar_team::report::write_report(
             dir,

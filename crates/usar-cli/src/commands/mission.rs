@@ -3,6 +3,7 @@
 use super::print_json;
 use crate::cli::{MissionCommand, MissionRunArgs};
 use crate::failure::{CmdResult, InputContext, bad_input};
+use crate::record_file::RecordFile;
 use crate::{progress, scene_source};
 use std::path::Path;
 use std::sync::Arc;
@@ -11,7 +12,7 @@ use usar_btm::store::BtmStore;
 use usar_mission::{
     MissionConfig, MissionError, MissionOutcome, Operator, run_mission, run_mission_live,
 };
-use usar_record::{MissionRecorder, RecordError, Recording};
+use usar_record::MissionRecorder;
 use usar_world::Scene;
 use usar_world::partial_path;
 
@@ -106,14 +107,7 @@ fn recorded(
     path: &Path,
     progress: impl FnMut(f64),
 ) -> CmdResult<Result<MissionOutcome, MissionError>> {
-    let partial = partial_path(path);
-    let file = std::fs::File::create(&partial)
-        .map_err(|e| bad_input(anyhow::anyhow!("--record {}: {e}", path.display())))?;
-    let fail = |e: RecordError| {
-        let _ = std::fs::remove_file(&partial);
-        anyhow::anyhow!("--record {}: {e}", path.display())
-    };
-    let recording = Recording::new(std::io::BufWriter::new(file)).map_err(fail)?;
+    let (file, recording) = RecordFile::create(path)?;
     let mut recorder = MissionRecorder::new(recording);
     let outcome = run_mission_live(
         scene,
@@ -125,11 +119,10 @@ fn recorded(
         &mut recorder,
     );
     if outcome.is_err() {
-        let _ = std::fs::remove_file(&partial);
+        file.abandon();
         return Ok(outcome);
     }
-    recorder.finish().map_err(fail)?;
-    std::fs::rename(&partial, path)?;
+    file.done(recorder.finish())?;
     Ok(outcome)
 }
 

@@ -2,14 +2,14 @@
 
 use super::print_json;
 use crate::cli::{TeamCommand, TeamRunArgs};
-use crate::failure::{CmdResult, InputContext, bad_input};
-use crate::{progress, scene_source};
+use crate::failure::{CmdResult, bad_input};
+use crate::scene_source;
 use std::sync::Arc;
 use usar_map::segmentation::SegmentationParams;
+use usar_team::Radio;
 use usar_team::paper_run::RunSummary;
 use usar_team::scene_prep::prepare_scene;
 use usar_team::setup::{TeamSetup, parse_failure};
-use usar_team::{Radio, TeamMission};
 
 pub fn run(cmd: TeamCommand) -> CmdResult {
     match cmd {
@@ -66,11 +66,13 @@ fn run_one(args: TeamRunArgs) -> CmdResult {
         )));
     }
     let scene = Arc::new(scene);
-    let total = config.duration_s;
-    let mission = TeamMission::new(scene.clone(), config, args.seed).input()?;
-    let bar = progress::bar(total.round() as u64, "exploring", args.json);
-    let outcome = mission.run(|t| bar.set_position(t.round() as u64));
-    bar.finish_and_clear();
+    let outcome = super::explore::run_mission(
+        scene.clone(),
+        config,
+        args.seed,
+        args.json,
+        args.record.as_deref(),
+    )?;
     if let Some(png) = &args.png {
         usar_team::report::render_explored_map(&scene, &outcome)
             .save_png(png)

@@ -7,7 +7,17 @@ use super::*;
 
 impl TeamMission {
     /// Runs the mission to its end; `on_progress` gets the simulated time now and then.
-    pub fn run(mut self, mut on_progress: impl FnMut(f64)) -> TeamOutcome {
+    pub fn run(self, on_progress: impl FnMut(f64)) -> TeamOutcome {
+        self.run_observed(on_progress, |_| {})
+    }
+
+    /// [`TeamMission::run`], showing the mission to `observe` after every step's decisions
+    /// (a recorder, a viewer): it sees, it does not steer.
+    pub fn run_observed(
+        mut self,
+        mut on_progress: impl FnMut(f64),
+        mut observe: impl FnMut(&TeamMission),
+    ) -> TeamOutcome {
         let dt = self.config.sim.dt_s;
         let steps = (self.config.duration_s / dt).round() as u64;
         let mut finish = Finish::TimeLimit;
@@ -15,6 +25,7 @@ impl TeamMission {
         loop {
             self.host.decide(self.fleet, &mut self.team);
             self.evaluate();
+            observe(&self);
             let now = self.host.time_s();
             if step > 0 && self.team.explored() {
                 finish = Finish::Explored;

@@ -145,6 +145,16 @@ impl TeamMission {
         &self.team.base
     }
 
+    /// The team's controller: what the robots believe and report.
+    pub fn team(&self) -> &TeamController {
+        &self.team
+    }
+
+    /// The team robots' ids on the host, robot k at index k.
+    pub fn robot_ids(&self) -> &[usar_sim::RobotId] {
+        self.host.fleet(self.fleet)
+    }
+
     /// The world, as the evaluation sees it (true poses, the scene).
     pub fn simulation(&self) -> &Simulation {
         self.host.evaluator().simulation()

@@ -218,6 +218,11 @@ impl<'a> Explorer<'a> {
         self.loc.pose()
     }
 
+    /// Its last horizontal scan, in its frame.
+    pub fn last_scan(&self) -> &ScanView {
+        &self.view
+    }
+
     /// The map so far.
     pub fn btm(&self) -> &Btm {
         &self.map.btm
