@@ -19,6 +19,7 @@ use crate::text::{Fields, Lines, check_records};
 use crate::{LogError, LogEvent, LogFormat, LoggedScan, RobotLog, Timestamps, limits};
 use std::f64::consts::PI;
 use usar_map::localization::relative;
+use usar_world::Pose2;
 
 /// The keywords of CARMEN records (read or skipped), which tell the format.
 pub const KEYWORDS: [&str; 14] = [
@@ -110,36 +111,38 @@ fn laser_head(f: &mut Fields) -> Result<(f64, f64, f64, Vec<f32>), LogError> {
 }
 
 fn robot_laser(f: &mut Fields) -> Result<LogEvent, LogError> {
-    let (start, resolution, max_range, ranges_m) = laser_head(f)?;
+    let head = laser_head(f)?;
     let laser = f.pose("laser pose", 1.0)?;
     let robot = f.pose("robot pose", 1.0)?;
     f.skip(5, "velocities and safety distances")?;
     let t_s = f.number("time")?;
-    Ok(LogEvent::Scan(LoggedScan {
-        t_s,
-        ranges_m,
-        angle_min_rad: start,
-        angle_increment_rad: resolution,
-        range_max_m: (max_range > 0.0).then_some(max_range),
-        logged_pose: Some(laser),
-        odometry: Some(robot),
-        mount: Some(relative(robot, laser)),
-    }))
+    let posed = Some((laser, robot, relative(robot, laser)));
+    Ok(LogEvent::Scan(stated_scan(t_s, head, posed)))
 }
 
 fn raw_laser(f: &mut Fields) -> Result<LogEvent, LogError> {
-    let (start, resolution, max_range, ranges_m) = laser_head(f)?;
+    let head = laser_head(f)?;
     let t_s = f.number("time")?;
-    Ok(LogEvent::Scan(LoggedScan {
+    Ok(LogEvent::Scan(stated_scan(t_s, head, None)))
+}
+
+/// A scan whose geometry its record states (`laser_head`), with its laser pose, robot pose
+/// and mount when the record gives them.
+fn stated_scan(
+    t_s: f64,
+    (start, resolution, max_range, ranges_m): (f64, f64, f64, Vec<f32>),
+    posed: Option<(Pose2, Pose2, Pose2)>,
+) -> LoggedScan {
+    LoggedScan {
         t_s,
         ranges_m,
         angle_min_rad: start,
         angle_increment_rad: resolution,
         range_max_m: (max_range > 0.0).then_some(max_range),
-        logged_pose: None,
-        odometry: None,
-        mount: None,
-    }))
+        logged_pose: posed.map(|p| p.0),
+        odometry: posed.map(|p| p.1),
+        mount: posed.map(|p| p.2),
+    }
 }
 
 fn odom(f: &mut Fields) -> Result<LogEvent, LogError> {

@@ -216,14 +216,18 @@ pub fn map(cmd: MapCommand) -> CmdResult {
     Ok(())
 }
 
-fn map_params(args: &MapBuildArgs) -> CmdResult<MapParams> {
-    let matcher = Matcher::from_name(&args.matcher).ok_or_else(|| {
+/// The matcher called `name`.
+fn matcher(name: &str) -> CmdResult<Matcher> {
+    Matcher::from_name(name).ok_or_else(|| {
         bad_input(anyhow::anyhow!(
-            "--matcher {}: expected {}",
-            args.matcher,
+            "--matcher {name}: expected {}",
             Matcher::NAMES.join(", ")
         ))
-    })?;
+    })
+}
+
+fn map_params(args: &MapBuildArgs) -> CmdResult<MapParams> {
+    let matcher = matcher(&args.matcher)?;
     let params = MapParams {
         resolution_m: args.resolution,
         usable_range_m: args.usable_range,
@@ -304,15 +308,8 @@ pub fn btm_from_log(path: &Path, args: &BtmBuildArgs) -> CmdResult {
     let started = Instant::now();
     let config = super::btm::build_config(args)?;
     let robot = crate::scene_source::load_robot(&args.robot)?;
-    let matcher = Matcher::from_name(&args.matcher).ok_or_else(|| {
-        bad_input(anyhow::anyhow!(
-            "--matcher {}: expected {}",
-            args.matcher,
-            Matcher::NAMES.join(", ")
-        ))
-    })?;
     let params = MapParams {
-        matcher,
+        matcher: matcher(&args.matcher)?,
         ..MapParams::default()
     };
     let log = read(path, None)?;
