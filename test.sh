@@ -7,7 +7,8 @@
 #   operator console's end-to-end browser test (crates/usar-console/tests/browser.rs);
 # - a Python virtual environment (target/py-venv) with the MCAP project's readers `mcap` and
 #   `mcap-ros2-support` and `rosbags` (the recording and log interop tests,
-#   crates/usar-record/tests/, crates/usar-log/tests/) and the laser reference's raycast2D,
+#   crates/usar-record/tests/, crates/usar-log/tests/), Eclipse Cyclone DDS's `cyclonedds`
+#   (the ROS 2 bridge's interop test, crates/usar-ros2/tests/) and the laser reference's raycast2D,
 #   OpenCV and NumPy (crates/usar-bench/tests/); its interpreter is passed to the tests as
 #   USAR_PYTHON.
 #
@@ -45,9 +46,9 @@ fi
 
 # Independent readers of our MCAP recordings and the laser reference, pinned.
 VENV="$PWD/target/py-venv"
-PY_PACKAGES=(mcap==1.6.0 mcap-ros2-support==0.6.0 rosbags==0.11.9
+PY_PACKAGES=(mcap==1.6.0 mcap-ros2-support==0.6.0 rosbags==0.11.9 cyclonedds==11.0.1
   raycast2D==0.2.0 opencv-python-headless==5.1.0.95 numpy==2.4.6)
-if ! "$VENV/bin/python" -c 'import mcap, mcap_ros2, rosbags, raycast2D, cv2, numpy' 2>/dev/null; then
+if ! "$VENV/bin/python" -c 'import mcap, mcap_ros2, rosbags, cyclonedds, raycast2D, cv2, numpy' 2>/dev/null; then
   echo "test.sh: installing ${PY_PACKAGES[*]} into $VENV (the Python interop tests)"
   python3 -m venv "$VENV"
   for try in 1 2; do

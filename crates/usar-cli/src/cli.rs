@@ -101,6 +101,96 @@ pub enum Command {
     /// Occupancy maps from real robot logs, with scan matching.
     #[command(subcommand)]
     Map(MapCommand),
+    /// A live ROS 2 bridge (pure Rust, no ROS installation; built with `--features ros2`): a
+    /// simulated robot for RViz2 or Nav2, and usar's explorer and BTM builder as ROS 2 nodes.
+    /// Joins domain $ROS_DOMAIN_ID (or --domain); Ctrl-C stops a node.
+    #[command(subcommand)]
+    Ros2(Ros2Command),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Ros2Command {
+    /// A simulated robot on a scene: publishes /scan (sensor QoS), /odom, /tf, /tf_static,
+    /// /map (transient local: the scene, as map_server would) and /clock; obeys
+    /// geometry_msgs/Twist on /cmd_vel (a robot without a command for 0.5 s stops).
+    Sim(Ros2SimArgs),
+    /// usar's frontier explorer on a robot's /scan and /odom: publishes its goal
+    /// (geometry_msgs/PoseStamped on /goal_pose, for Nav2), its /map and the frontier
+    /// candidates as markers (/markers).
+    Explore(Ros2ExploreArgs),
+    /// The passive BTM builder on a robot's /scan and /odom: publishes the BTM as markers
+    /// (/markers) and writes it to a BTM database.
+    Btm(Ros2BtmArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct Ros2Args {
+    /// DDS domain; default: $ROS_DOMAIN_ID, else 0.
+    #[arg(long)]
+    pub domain: Option<u16>,
+    /// Only on 127.0.0.1 (also when $ROS_LOCALHOST_ONLY=1): discovery by unicast on loopback.
+    #[arg(long)]
+    pub localhost: bool,
+    /// Rename a topic: FROM:=TO (scan, odom, tf, tf_static, map, clock, cmd_vel, goal_pose,
+    /// markers), repeatable, e.g. --remap scan:=/robot1/scan.
+    #[arg(long = "remap", value_name = "FROM:=TO")]
+    pub remaps: Vec<String>,
+    /// Stop after this many seconds (default: at Ctrl-C).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+}
+
+#[derive(Debug, Args)]
+pub struct Ros2SimArgs {
+    /// The scene (file, map or generator name); the robot starts at its first start pose.
+    #[arg(long, default_value = "office")]
+    pub scene: String,
+    #[arg(long, default_value_t = 1)]
+    pub scene_seed: u64,
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Robot model: wheeled, crawler or a robot TOML file.
+    #[arg(long, default_value = "wheeled")]
+    pub robot: String,
+    /// Seed of the sensor and odometry noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Simulated seconds per wall second.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    #[command(flatten)]
+    pub ros: Ros2Args,
+}
+
+#[derive(Debug, Args)]
+pub struct Ros2ExploreArgs {
+    /// Side of the explorer's square map, metres (centred where the robot starts).
+    #[arg(long, default_value_t = 100.0)]
+    pub size: f64,
+    /// Map cell, metres.
+    #[arg(long, default_value_t = 0.05)]
+    pub resolution: f64,
+    /// Odometry alone (no correlative scan matching).
+    #[arg(long)]
+    pub no_scan_matching: bool,
+    #[command(flatten)]
+    pub ros: Ros2Args,
+}
+
+#[derive(Debug, Args)]
+pub struct Ros2BtmArgs {
+    /// The BTM database to write (.sqlite); written as FILE.partial and named when the node
+    /// stops.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Robot model whose width makes a passage: wheeled, crawler or a robot TOML file.
+    #[arg(long, default_value = "wheeled")]
+    pub robot: String,
+    /// Odometry alone (no correlative scan matching).
+    #[arg(long)]
+    pub no_scan_matching: bool,
+    #[command(flatten)]
+    pub ros: Ros2Args,
 }
 
 #[derive(Debug, Subcommand)]

@@ -15,7 +15,7 @@
 //! the laser's maximum (capped by the usable range: it saw nothing nearer), a beam with no
 //! reading not at all.
 
-use crate::matcher::{CorrelativeMatcher, MatcherParams};
+use crate::matcher::{MatcherParams, Tracker};
 use crate::no_return::{self, NoReturn, Reading};
 use crate::{LogError, RobotLog, ScanAt};
 use serde::Serialize;
@@ -264,27 +264,12 @@ fn correlative(
     usable: f64,
     params: &MatcherParams,
 ) -> (Vec<TrajectoryPoint>, u64, u64) {
-    let mut matcher = CorrelativeMatcher::new(params.clone());
-    let start = scans[0].laser_odometry();
-    let (mut pose, mut last_odometry) = (start, start);
-    let (mut matched, mut rejected) = (0, 0);
+    let mut tracker = Tracker::new(Some(params.clone()));
     let mut trajectory = Vec::with_capacity(scans.len());
     for s in scans {
         let odometry = s.laser_odometry();
-        let predicted = compose(pose, relative(last_odometry, odometry));
-        last_odometry = odometry;
-        let view = ScanView::from_scan(&usable_scan(s, threshold, usable, predicted));
-        pose = match matcher.match_scan(&view.points, predicted) {
-            Some((found, _)) => {
-                matched += 1;
-                found
-            }
-            None => {
-                rejected += u64::from(!matcher.is_empty());
-                predicted
-            }
-        };
-        matcher.insert(pose, &view.points);
+        let view = ScanView::from_scan(&usable_scan(s, threshold, usable, odometry));
+        let pose = tracker.update(odometry, &view.points);
         trajectory.push(TrajectoryPoint {
             t_s: s.scan.t_s,
             odometry,
@@ -292,7 +277,7 @@ fn correlative(
             logged: s.scan.logged_pose,
         });
     }
-    (trajectory, matched, rejected)
+    (trajectory, tracker.matched, tracker.rejected)
 }
 
 /// The laser's poses by usar's ICP localizer (or odometry alone); scans matched and rejected.

@@ -282,6 +282,62 @@ impl CorrelativeMatcher {
     }
 }
 
+/// A pose tracked scan by scan: odometry predicts, the matcher corrects, the scan is drawn.
+#[derive(Clone, Debug)]
+pub struct Tracker {
+    matcher: Option<CorrelativeMatcher>,
+    pose: Option<Pose2>,
+    last_odometry: Pose2,
+    /// Scans matched, and scans whose match was rejected (odometry kept).
+    pub matched: u64,
+    pub rejected: u64,
+}
+
+impl Tracker {
+    /// A tracker that matches with `params`, or follows odometry alone (`None`).
+    pub fn new(params: Option<MatcherParams>) -> Self {
+        Self {
+            matcher: params.map(CorrelativeMatcher::new),
+            pose: None,
+            last_odometry: Pose2::default(),
+            matched: 0,
+            rejected: 0,
+        }
+    }
+
+    /// The pose of a scan whose `points` (sensor frame) were taken at `odometry`; the first
+    /// scan is at its odometry.
+    pub fn update(&mut self, odometry: Pose2, points: &[Point2]) -> Pose2 {
+        let predicted = match self.pose {
+            Some(p) => usar_map::localization::compose(
+                p,
+                usar_map::localization::relative(self.last_odometry, odometry),
+            ),
+            None => odometry,
+        };
+        self.last_odometry = odometry;
+        let pose = match &mut self.matcher {
+            None => predicted,
+            Some(m) => {
+                let pose = match m.match_scan(points, predicted) {
+                    Some((found, _)) => {
+                        self.matched += 1;
+                        found
+                    }
+                    None => {
+                        self.rejected += u64::from(!m.is_empty());
+                        predicted
+                    }
+                };
+                m.insert(pose, points);
+                pose
+            }
+        };
+        self.pose = Some(pose);
+        pose
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,6 +11,7 @@ mod logs;
 mod maxq;
 mod mission;
 mod plan;
+mod ros2;
 mod scene;
 mod segment;
 mod slurm;
@@ -34,6 +35,7 @@ pub fn run(cli: Cli) -> CmdResult {
         Command::Console(args) => console::run(args),
         Command::Log(cmd) => logs::import(cmd),
         Command::Map(cmd) => logs::map(cmd),
+        Command::Ros2(cmd) => ros2::run(cmd),
     }
 }
 
