@@ -460,6 +460,14 @@ pub struct MaxqEvalArgs {
     /// Print every run too.
     #[arg(long)]
     pub runs: bool,
+    /// Record one run of the design into this MCAP file of ROS 2 messages (the robot's pose
+    /// at every primitive step, its cell map and possible victims every 10): run --record-run
+    /// in design order (scene, start, weights, repetition), replayed with its own seed.
+    #[arg(long, value_name = "FILE.mcap")]
+    pub record: Option<PathBuf>,
+    /// Which run --record records (0-based, design order).
+    #[arg(long, default_value_t = 0, requires = "record")]
+    pub record_run: usize,
     #[arg(long)]
     pub json: bool,
 }

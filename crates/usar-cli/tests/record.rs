@@ -89,3 +89,58 @@ fn a_recording_that_cannot_be_made_is_bad_input() {
     ]);
     assert_bad_input(&out, "--record");
 }
+
+/// Messages per topic of an MCAP file, every one read.
+fn topics(path: &std::path::Path) -> std::collections::BTreeMap<String, usize> {
+    let bytes = std::fs::read(path).unwrap();
+    let mut counts = std::collections::BTreeMap::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        *counts.entry(m.unwrap().channel.topic.clone()).or_default() += 1;
+    }
+    counts
+}
+
+/// One run of a MAXQ evaluation, replayed into a recording: a pose every primitive step, the
+/// cell map and the possible victims every ten.
+#[test]
+fn a_maxq_evaluation_run_is_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let policy = dir.path().join("p.json");
+    usar_json(&[
+        "maxq",
+        "train",
+        "--trials",
+        "30",
+        "--seed",
+        "3",
+        "--out",
+        policy.to_str().unwrap(),
+        "--json",
+    ]);
+    let rec = dir.path().join("maxq.mcap");
+    let args = |run: &str| {
+        vec![
+            "maxq".to_string(),
+            "eval".into(),
+            "--policy".into(),
+            policy.to_str().unwrap().into(),
+            "--reps".into(),
+            "1".into(),
+            "--record".into(),
+            rec.to_str().unwrap().into(),
+            "--record-run".into(),
+            run.into(),
+            "--json".into(),
+        ]
+    };
+    let a = args("2");
+    usar_json(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let counts = topics(&rec);
+    let poses = counts["/tf"];
+    assert_eq!(counts["/clock"], poses);
+    assert!(poses > 50, "{counts:?}");
+    assert_eq!(counts["/rescuer/map"], poses.div_ceil(10));
+    let a = args("999");
+    let out = usar(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_bad_input(&out, "--record-run 999: expected a run index below 36");
+}

@@ -11,7 +11,9 @@ pub mod stepper;
 pub mod taxi;
 
 pub use self::flat_q::{FlatQ, SparseFlatQ};
-pub use self::maxq::{Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind};
+pub use self::maxq::{
+    Domain, Episode, Hierarchy, LearningParams, MaxqQ, Node, NodeId, NodeKind, Observed,
+};
 pub use self::schedule::{ParamError, Schedule};
 pub use self::stepper::{Delegation, GreedyStepper, Next};
 

@@ -496,3 +496,32 @@ impl MaxqQ {
         s
     }
 }
+
+/// A domain shown to an observer after each primitive step (a recorder, a viewer): it sees,
+/// it does not steer; every other call goes to the domain unchanged.
+pub struct Observed<D, F> {
+    pub domain: D,
+    pub observe: F,
+}
+
+impl<D: Domain, F: FnMut(&D)> Domain for Observed<D, F> {
+    type State = D::State;
+
+    fn step(&mut self, s: &Self::State, action: usize) -> (Self::State, f64) {
+        let out = self.domain.step(s, action);
+        (self.observe)(&self.domain);
+        out
+    }
+
+    fn is_terminal(&self, s: &Self::State) -> bool {
+        self.domain.is_terminal(s)
+    }
+
+    fn available(&self, s: &Self::State, action: usize) -> bool {
+        self.domain.available(s, action)
+    }
+
+    fn delegated_choice(&mut self, node: NodeId, s: &Self::State) -> Option<usize> {
+        self.domain.delegated_choice(node, s)
+    }
+}

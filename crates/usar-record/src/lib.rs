@@ -22,11 +22,13 @@ pub mod cdr;
 mod mission;
 pub mod msgs;
 mod recording;
+mod rescue;
 mod team;
 
 pub use self::btm::BtmRecorder;
 pub use self::mission::MissionRecorder;
 pub use self::recording::Recording;
+pub use self::rescue::RescueRecorder;
 pub use self::team::TeamRecorder;
 
 /// Why a recording failed.

@@ -359,6 +359,11 @@ impl<'a, O: HandOff> RescueDomain<'a, O> {
         self.agent.possible_victims()
     }
 
+    /// The scene the run is on (ground truth: for evaluation and pictures).
+    pub fn scene(&self) -> &RescueScene {
+        self.scene
+    }
+
     /// Whether the robot is stuck (its navigation is handed to the operator).
     pub fn is_stuck(&self) -> bool {
         self.agent.is_stuck()

@@ -103,10 +103,26 @@ pub fn run_once(
     config: &EvalConfig,
     seed: u64,
 ) -> Option<(u64, crate::RunStats, f64, usize, u32, bool)> {
+    run_observed(policy, scene, start, weights, config, seed, |_| {})
+}
+
+/// The robot's domain in an evaluation run, as an observer sees it.
+pub type EvalDomain<'a> = RescueDomain<'a, SimulatedOperator>;
+
+/// [`run_once`], showing the domain to `observe` after every primitive step.
+pub fn run_observed(
+    policy: &MaxqQ,
+    scene: &RescueScene,
+    start: usize,
+    weights: &ExplorationWeights,
+    config: &EvalConfig,
+    seed: u64,
+    observe: impl FnMut(&EvalDomain<'_>),
+) -> Option<(u64, crate::RunStats, f64, usize, u32, bool)> {
     let h = RescueHierarchy::new();
     let start_pose = scene.start(start)?;
     let operator = SimulatedOperator::new(config.operator.clone(), seed ^ 0x0DE);
-    let mut domain = RescueDomain::new(
+    let domain = RescueDomain::new(
         scene,
         start_pose,
         weights.clone(),
@@ -117,7 +133,9 @@ pub fn run_once(
     let mut learner = policy.clone();
     learner.params.max_steps_per_episode = config.max_steps;
     let s0 = domain.state();
-    let episode = learner.greedy_episode(&h, &mut domain, s0);
+    let mut observed = usar_maxq::Observed { domain, observe };
+    let episode = learner.greedy_episode(&h, &mut observed, s0);
+    let domain = observed.domain;
     let (reachable, victims) = scene.reachable(start_pose.0);
     let reachable_cells = reachable.iter().filter(|&&r| r).count();
     let visited = domain
@@ -140,8 +158,11 @@ pub fn run_once(
     ))
 }
 
-/// Every run of the design, in design order (scene, start, weights, repetition).
-pub fn evaluate(policy: &MaxqQ, config: &EvalConfig, progress: impl Fn() + Sync) -> Vec<EvalRun> {
+/// The evaluation's scenes and its design, in design order: (scene, start, weights,
+/// repetition) indices.
+pub fn design(
+    config: &EvalConfig,
+) -> (Vec<(String, RescueScene)>, Vec<(usize, usize, usize, u32)>) {
     let scenes: Vec<(String, RescueScene)> = config
         .scenes
         .iter()
@@ -157,33 +178,64 @@ pub fn evaluate(policy: &MaxqQ, config: &EvalConfig, progress: impl Fn() + Sync)
             }
         }
     }
+    (scenes, design)
+}
+
+/// Run `(si, start, wi, rep)` of the design, shown to `observe` step by step.
+fn design_run(
+    policy: &MaxqQ,
+    config: &EvalConfig,
+    scenes: &[(String, RescueScene)],
+    (si, start, wi, rep): (usize, usize, usize, u32),
+    observe: impl FnMut(&EvalDomain<'_>),
+) -> Option<EvalRun> {
+    let (name, scene) = &scenes[si];
+    let weights = &config.weights[wi];
+    let seed = run_seed(config.seed, si, start, wi, rep);
+    let (steps, stats, coverage, reachable_cells, victims_reachable, exited) =
+        run_observed(policy, scene, start, weights, config, seed, observe)?;
+    Some(EvalRun {
+        scene: name.clone(),
+        start,
+        weights: weights.name.clone(),
+        repetition: rep,
+        steps,
+        coverage,
+        reachable_cells,
+        collisions: stats.robot_collisions,
+        operator_collisions: stats.operator_collisions,
+        victims_found: stats.victims_found,
+        victims_reachable,
+        false_tags: stats.false_tags,
+        handoffs_stuck: stats.handoffs_stuck,
+        handoffs_victim: stats.handoffs_victim,
+        time_s: stats.time_s,
+        exited,
+    })
+}
+
+/// Every run of the design, in design order (scene, start, weights, repetition).
+pub fn evaluate(policy: &MaxqQ, config: &EvalConfig, progress: impl Fn() + Sync) -> Vec<EvalRun> {
+    let (scenes, design) = design(config);
     design
         .par_iter()
-        .filter_map(|&(si, start, wi, rep)| {
-            let (name, scene) = &scenes[si];
-            let weights = &config.weights[wi];
-            let seed = run_seed(config.seed, si, start, wi, rep);
-            let (steps, stats, coverage, reachable_cells, victims_reachable, exited) =
-                run_once(policy, scene, start, weights, config, seed)?;
+        .filter_map(|&run| {
+            let out = design_run(policy, config, &scenes, run, |_| {});
             progress();
-            Some(EvalRun {
-                scene: name.clone(),
-                start,
-                weights: weights.name.clone(),
-                repetition: rep,
-                steps,
-                coverage,
-                reachable_cells,
-                collisions: stats.robot_collisions,
-                operator_collisions: stats.operator_collisions,
-                victims_found: stats.victims_found,
-                victims_reachable,
-                false_tags: stats.false_tags,
-                handoffs_stuck: stats.handoffs_stuck,
-                handoffs_victim: stats.handoffs_victim,
-                time_s: stats.time_s,
-                exited,
-            })
+            out
         })
         .collect()
+}
+
+/// Run `index` of the design (in design order) again, shown to `observe` after every
+/// primitive step: the same run as in [`evaluate`] (same scene, start, weights and seed).
+/// `None` when there is no such run.
+pub fn replay(
+    policy: &MaxqQ,
+    config: &EvalConfig,
+    index: usize,
+    observe: impl FnMut(&EvalDomain<'_>),
+) -> Option<EvalRun> {
+    let (scenes, design) = design(config);
+    design_run(policy, config, &scenes, *design.get(index)?, observe)
 }

@@ -97,6 +97,40 @@ fn eval_command(args: MaxqEvalArgs) -> CmdResult {
     let bar = progress::bar(total, "evaluating", args.json);
     let runs = evaluate(&policy.learner, &config, || bar.inc(1));
     bar.finish_and_clear();
+    if let Some(path) = &args.record {
+        let (file, recording) = crate::record_file::RecordFile::create(path)?;
+        let mut recorder = usar_record::RescueRecorder::new(recording);
+        let replayed =
+            usar_rescue::evaluation::replay(&policy.learner, &config, args.record_run, |d| {
+                recorder.observe(d)
+            });
+        // The replay is the evaluated run, step for step.
+        match replayed {
+            Some(r)
+                if runs
+                    .get(args.record_run)
+                    .is_some_and(|e| e.steps == r.steps) =>
+            {
+                file.done(recorder.finish())?;
+            }
+            Some(_) => {
+                file.abandon();
+                return Err(anyhow::anyhow!(
+                    "--record-run {}: the replay differs from the evaluated run",
+                    args.record_run
+                )
+                .into());
+            }
+            None => {
+                file.abandon();
+                return Err(bad_input(anyhow::anyhow!(
+                    "--record-run {}: expected a run index below {}",
+                    args.record_run,
+                    runs.len()
+                )));
+            }
+        }
+    }
     let out = EvalSummary::new(&args.policy, &runs, &config, args.runs);
     if let Some(path) = &args.plot {
         figures::plot_evaluation(&out.analysis, path).input()?;
