@@ -186,7 +186,7 @@ fn design_run(
     policy: &MaxqQ,
     config: &EvalConfig,
     scenes: &[(String, RescueScene)],
-    (si, start, wi, rep): (usize, usize, usize, u32),
+    (si, start, wi, rep): DesignRun,
     observe: impl FnMut(&EvalDomain<'_>),
 ) -> Option<EvalRun> {
     let (name, scene) = &scenes[si];
