@@ -158,11 +158,11 @@ pub fn run_observed(
     ))
 }
 
-/// The evaluation's scenes and its design, in design order: (scene, start, weights,
-/// repetition) indices.
-pub fn design(
-    config: &EvalConfig,
-) -> (Vec<(String, RescueScene)>, Vec<(usize, usize, usize, u32)>) {
+/// One run of the design: (scene, start, weights, repetition) indices.
+pub type DesignRun = (usize, usize, usize, u32);
+
+/// The evaluation's named scenes and its design, in design order.
+pub fn design(config: &EvalConfig) -> (Vec<(String, RescueScene)>, Vec<DesignRun>) {
     let scenes: Vec<(String, RescueScene)> = config
         .scenes
         .iter()
