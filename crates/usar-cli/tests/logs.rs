@@ -156,3 +156,16 @@ fn bad_logs_and_parameters_are_bad_input() {
     ]);
     assert_bad_input(&out, "missing.log");
 }
+
+/// A log larger than the input limit is refused before it fills memory.
+#[test]
+fn a_log_past_the_file_size_limit_is_refused() {
+    let out = usar(&[
+        "log",
+        "import",
+        duke().to_str().unwrap(),
+        "--max-file-mb",
+        "0",
+    ]);
+    assert_bad_input(&out, "raise the limit with --max-file-mb");
+}

@@ -48,7 +48,9 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use usar_world::Pose2;
 
-/// What a log may declare, at most: a log past these is refused, not read.
+/// What a log may declare, at most: a log past these is refused, not read. The bytes of a
+/// log (decompressed) and of each file of a bag count against `usar_world::limits`' input
+/// file size (`--max-file-mb`).
 pub mod limits {
     /// Beams in one scan.
     pub const MAX_BEAMS: usize = 100_000;

@@ -14,8 +14,6 @@ use usar_world::Pose2;
 const SCAN: &str = "sensor_msgs/msg/LaserScan";
 const ODOMETRY: &str = "nav_msgs/msg/Odometry";
 const TF: &str = "tf2_msgs/msg/TFMessage";
-/// Largest bag read, bytes (a bag is read whole).
-pub const MAX_BAG_BYTES: u64 = 4 << 30;
 
 /// Reads the bag at `path` (a folder or an `.mcap` file).
 pub(crate) fn read(path: &Path) -> Result<RobotLog, LogError> {
@@ -43,11 +41,13 @@ pub(crate) fn read(path: &Path) -> Result<RobotLog, LogError> {
     let mut bytes = Vec::new();
     let mut log: Option<RobotLog> = None;
     for file in &files {
+        // A bag is read whole: its files count against the input file size limit.
         let size = std::fs::metadata(file).map_err(io)?.len();
-        if size > MAX_BAG_BYTES {
+        let max = usar_world::limits::limits().max_file_bytes;
+        if size > max {
             return Err(bag_error(
                 file,
-                format!("{size} bytes (bags above {MAX_BAG_BYTES} are refused)"),
+                format!("{size} bytes (at most {max}; raise the limit with --max-file-mb)"),
             ));
         }
         bytes.clear();

@@ -12,6 +12,8 @@ pub(crate) struct Lines {
     reader: Box<dyn BufRead>,
     line_no: u64,
     buf: Vec<u8>,
+    /// Bytes read so far (decompressed), against `usar_world::limits`' file size.
+    read: u64,
 }
 
 impl Lines {
@@ -41,6 +43,7 @@ impl Lines {
             reader,
             line_no: 0,
             buf: Vec::new(),
+            read: 0,
         }
     }
 
@@ -59,6 +62,13 @@ impl Lines {
             return Ok(None);
         }
         self.line_no += 1;
+        self.read += n as u64;
+        let max = usar_world::limits::limits().max_file_bytes;
+        if self.read > max {
+            return Err(self.error(format!(
+                "more than {max} bytes of log (raise the limit with --max-file-mb)"
+            )));
+        }
         if self.buf.len() > limits::MAX_LINE_BYTES {
             return Err(self.error(format!(
                 "a line of more than {} bytes (expected one record a line)",
