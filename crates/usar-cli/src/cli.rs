@@ -103,7 +103,8 @@ pub enum Command {
     Map(MapCommand),
     /// A live ROS 2 bridge (pure Rust, no ROS installation; built with `--features ros2`): a
     /// simulated robot for RViz2 or Nav2, and usar's explorer and BTM builder as ROS 2 nodes.
-    /// Joins domain $ROS_DOMAIN_ID (or --domain); Ctrl-C stops a node.
+    /// Joins domain $ROS_DOMAIN_ID (or --domain); Ctrl-C or --seconds stops a node, which then
+    /// prints what it did as JSON.
     #[command(subcommand)]
     Ros2(Ros2Command),
 }

@@ -195,9 +195,9 @@ pub enum LogError {
     #[error("{path}: no laser scan in the log")]
     NoScans { path: PathBuf },
     #[error(
-        "{path}: scan {scan} has no odometry (no odometry record before it and none in the scan record)"
+        "{path}: no scan has odometry (no odometry record before it and none in its own record)"
     )]
-    NoOdometry { path: PathBuf, scan: usize },
+    NoOdometry { path: PathBuf },
 }
 
 /// Reads the log at `path`; `format` `None`: [`LogFormat::detect`].

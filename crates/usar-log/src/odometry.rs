@@ -71,7 +71,6 @@ impl RobotLog {
         if out.is_empty() {
             return Err(LogError::NoOdometry {
                 path: self.path.clone(),
-                scan: 0,
             });
         }
         Ok(out)

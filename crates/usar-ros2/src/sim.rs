@@ -170,7 +170,7 @@ pub fn run_sim(
             driver.command = Velocity::default();
         }
         host.decide(fleet, &mut driver);
-        publish_step(t, &driver, &clock, &scan_pub, &odom_pub, &tf_pub)?;
+        publish_step(t, dt, &driver, &clock, &scan_pub, &odom_pub, &tf_pub)?;
         report.scans += 1;
         host.advance();
         report.steps += 1;
@@ -186,6 +186,7 @@ pub fn run_sim(
 
 fn publish_step(
     t: f64,
+    dt: f64,
     d: &Driver,
     clock: &ros2_client::Publisher<msgs::Clock>,
     scan: &ros2_client::Publisher<LaserScan>,
@@ -205,7 +206,7 @@ fn publish_step(
         angle_max: (s.angle_min_rad + s.angle_increment_rad * (n - 1) as f64) as f32,
         angle_increment: s.angle_increment_rad as f32,
         time_increment: 0.0,
-        scan_time: 0.1,
+        scan_time: dt as f32,
         range_min: 0.0,
         range_max: s.max_range_m as f32,
         ranges: s.ranges_m.clone(),
