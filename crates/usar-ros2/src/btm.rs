@@ -5,9 +5,10 @@
 //! of the links); when it stops it makes the end node and, with a store, has written every
 //! node and link to the BTM database as it went.
 
-use crate::msgs::{self, Header, LaserScan, Marker, MarkerArray};
+use crate::msgs::{self, Header, Marker, MarkerArray};
 use crate::{
-    Bridge, BridgeError, BridgeOptions, StopFlag, Topics, qos, scan_reading, stopped, types,
+    Bridge, BridgeError, BridgeOptions, SensorFeed, StopFlag, Topics, qos, scan_reading, stopped,
+    types,
 };
 use std::time::{Duration, Instant};
 use usar_btm::Btm;
@@ -17,16 +18,10 @@ use usar_btm::model::kind;
 use usar_btm::store::BtmStore;
 use usar_log::matcher::{MatcherParams, Tracker};
 use usar_map::localization::ScanView;
-use usar_world::Pose2;
 
 /// The BTM as markers.
 pub fn btm_markers(t: f64, btm: &Btm) -> MarkerArray {
-    let mut markers = vec![Marker {
-        header: Header::new(t, "map"),
-        ns: "btm".into(),
-        action: Marker::DELETE_ALL,
-        ..Marker::default()
-    }];
+    let mut markers = vec![Marker::delete_all(t, "btm")];
     for n in &btm.nodes {
         let rgba = match n.kind.as_str() {
             kind::DIVERGENCE => [0.2, 0.4, 1.0, 1.0],
@@ -92,31 +87,28 @@ pub fn run_btm(
     stop: &StopFlag,
 ) -> Result<Btm, BridgeError> {
     let mut node = Bridge::new("usar_btm", bridge)?;
-    let scans = node.subscription::<LaserScan>(&topics.scan, types::LASER_SCAN, qos::sensor())?;
-    let odom =
-        node.subscription::<msgs::Odometry>(&topics.odom, types::ODOMETRY, qos::reliable())?;
+    let mut feed = SensorFeed::new(&mut node, topics)?;
     let markers =
         node.publisher::<MarkerArray>(&topics.markers, types::MARKER_ARRAY, qos::reliable())?;
     let mut builder = PassiveBuilder::new(config, robot_width_m, store);
     let mut tracker = Tracker::new(scan_matching.then(MatcherParams::default));
-    let mut odometry: Option<Pose2> = None;
     let started = Instant::now();
     let mut next = Duration::ZERO;
     let mut stamp = 0.0;
+    let mut failed = None;
     while !stopped(stop) && duration_s.is_none_or(|d| started.elapsed().as_secs_f64() < d) {
-        let mut busy = false;
-        while let Ok(Some((o, _))) = odom.take() {
-            odometry = Some(o.pose.pose.to_pose2());
-            busy = true;
-        }
-        while let Ok(Some((scan, _))) = scans.take() {
-            if let Some(at) = odometry {
-                let view = ScanView::from_scan(&scan_reading(&scan, at));
-                let pose = tracker.update(at, &view.points);
-                builder.observe(pose, &view)?;
-                stamp = scan.header.stamp.as_s();
+        let busy = feed.poll(|at, scan| {
+            let view = ScanView::from_scan(&scan_reading(scan, at));
+            let pose = tracker.update(at, &view.points);
+            if failed.is_none()
+                && let Err(e) = builder.observe(pose, &view)
+            {
+                failed = Some(e);
             }
-            busy = true;
+            stamp = scan.header.stamp.as_s();
+        });
+        if let Some(e) = failed.take() {
+            return Err(e.into());
         }
         if started.elapsed() >= next {
             next = started.elapsed() + Duration::from_secs(1);

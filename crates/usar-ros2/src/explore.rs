@@ -16,7 +16,8 @@
 
 use crate::msgs::{self, Header, LaserScan, Marker, MarkerArray, PoseStamped};
 use crate::{
-    Bridge, BridgeError, BridgeOptions, StopFlag, Topics, qos, scan_reading, stopped, types,
+    Bridge, BridgeError, BridgeOptions, SensorFeed, StopFlag, Topics, qos, scan_reading, stopped,
+    types,
 };
 use std::time::{Duration, Instant};
 use usar_log::matcher::{MatcherParams, Tracker};
@@ -157,9 +158,7 @@ pub fn run_explore(
     stop: &StopFlag,
 ) -> Result<ExploreReport, BridgeError> {
     let mut node = Bridge::new("usar_explore", bridge)?;
-    let scans = node.subscription::<LaserScan>(&topics.scan, types::LASER_SCAN, qos::sensor())?;
-    let odom =
-        node.subscription::<msgs::Odometry>(&topics.odom, types::ODOMETRY, qos::reliable())?;
+    let mut feed = SensorFeed::new(&mut node, topics)?;
     let goal_pub =
         node.publisher::<PoseStamped>(&topics.goal, types::POSE_STAMPED, qos::reliable())?;
     let map_pub =
@@ -168,7 +167,6 @@ pub fn run_explore(
         node.publisher::<MarkerArray>(&topics.markers, types::MARKER_ARRAY, qos::reliable())?;
     let mut explorer = FrontierExplorer::new(options.clone());
     let mut report = ExploreReport::default();
-    let mut odometry: Option<Pose2> = None;
     let started = Instant::now();
     let (mut next_goal, mut next_map) = (Duration::ZERO, Duration::ZERO);
     let mut stamp = 0.0;
@@ -177,19 +175,11 @@ pub fn run_explore(
             .duration_s
             .is_none_or(|d| started.elapsed().as_secs_f64() < d)
     {
-        let mut busy = false;
-        while let Ok(Some((o, _))) = odom.take() {
-            odometry = Some(o.pose.pose.to_pose2());
-            busy = true;
-        }
-        while let Ok(Some((scan, _))) = scans.take() {
-            if let Some(at) = odometry {
-                explorer.observe(at, &scan);
-                stamp = scan.header.stamp.as_s();
-                report.scans += 1;
-            }
-            busy = true;
-        }
+        let busy = feed.poll(|at, scan| {
+            explorer.observe(at, scan);
+            stamp = scan.header.stamp.as_s();
+            report.scans += 1;
+        });
         let now = started.elapsed();
         if report.scans > 0 && now >= next_goal {
             next_goal = now + Duration::from_secs(1);
@@ -235,12 +225,7 @@ fn publish_candidates(
     let Some(g) = explorer.grid().map(|g| *g.geometry()) else {
         return Ok(());
     };
-    let mut all = vec![Marker {
-        header: Header::new(t, "map"),
-        ns: "frontiers".into(),
-        action: Marker::DELETE_ALL,
-        ..Marker::default()
-    }];
+    let mut all = vec![Marker::delete_all(t, "frontiers")];
     all.extend(clusters.iter().enumerate().map(|(k, c)| {
         let p = g.cell_center(c.candidate);
         Marker::sphere(

@@ -269,6 +269,41 @@ pub fn scan_reading(m: &msgs::LaserScan, pose: usar_world::Pose2) -> usar_sim::s
     }
 }
 
+/// A robot's `/scan` and `/odom` as a node hears them: each scan paired with the latest
+/// odometry received before it (scans before any odometry are dropped).
+pub struct SensorFeed {
+    scans: Subscription<msgs::LaserScan>,
+    odom: Subscription<msgs::Odometry>,
+    odometry: Option<usar_world::Pose2>,
+}
+
+impl SensorFeed {
+    /// Subscribes to `topics.scan` (sensor data QoS) and `topics.odom` (reliable).
+    pub fn new(node: &mut Bridge, topics: &Topics) -> Result<Self, BridgeError> {
+        Ok(Self {
+            scans: node.subscription(&topics.scan, types::LASER_SCAN, qos::sensor())?,
+            odom: node.subscription(&topics.odom, types::ODOMETRY, qos::reliable())?,
+            odometry: None,
+        })
+    }
+
+    /// Hands every scan waiting, with its odometry, to `on_scan`; whether anything came.
+    pub fn poll(&mut self, mut on_scan: impl FnMut(usar_world::Pose2, &msgs::LaserScan)) -> bool {
+        let mut busy = false;
+        while let Ok(Some((o, _))) = self.odom.take() {
+            self.odometry = Some(o.pose.pose.to_pose2());
+            busy = true;
+        }
+        while let Ok(Some((scan, _))) = self.scans.take() {
+            if let Some(at) = self.odometry {
+                on_scan(at, &scan);
+            }
+            busy = true;
+        }
+        busy
+    }
+}
+
 /// Stops a node's loop from another thread (or a Ctrl-C handler).
 pub type StopFlag = std::sync::Arc<std::sync::atomic::AtomicBool>;
 

@@ -391,6 +391,16 @@ impl Marker {
     pub const LINE_LIST: i32 = 5;
     pub const DELETE_ALL: i32 = 3;
 
+    /// Clears every marker of namespace `ns` (sent before the ones that replace them).
+    pub fn delete_all(t_s: f64, ns: &str) -> Self {
+        Self {
+            header: Header::new(t_s, "map"),
+            ns: ns.into(),
+            action: Self::DELETE_ALL,
+            ..Self::default()
+        }
+    }
+
     /// A sphere of diameter `size` at (x, y) in `map`.
     pub fn sphere(
         t_s: f64,
