@@ -2,6 +2,7 @@
 //! fields of a record, refused with their line when they are not what the format expects.
 
 use crate::{LogError, limits};
+use std::fmt::Display;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::str::SplitAsciiWhitespace;
@@ -126,12 +127,17 @@ impl<'a> Fields<'a> {
         }
     }
 
-    /// The next field as a finite number (`name` says what it is, for the error).
-    pub fn number(&mut self, name: &str) -> Result<f64, LogError> {
-        let word = self
-            .words
-            .next()
-            .ok_or_else(|| self.error(format!("the record ends before its {name}")))?;
+    /// The next field (`name` says what it is, for the error; it is only formatted then).
+    fn word(&mut self, name: &impl Display) -> Result<&'a str, LogError> {
+        match self.words.next() {
+            Some(w) => Ok(w),
+            None => Err(self.error(format!("the record ends before its {name}"))),
+        }
+    }
+
+    /// The next field as a finite number.
+    pub fn number(&mut self, name: impl Display) -> Result<f64, LogError> {
+        let word = self.word(&name)?;
         match word.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
             _ => Err(self.error(format!("{name} is {word:?} (expected a finite number)"))),
@@ -140,21 +146,15 @@ impl<'a> Fields<'a> {
 
     /// The next field as a reading: a number, where NaN or an infinity is kept (some logs
     /// write `nan` or `inf` for no reading).
-    pub fn reading(&mut self, name: &str) -> Result<f64, LogError> {
-        let word = self
-            .words
-            .next()
-            .ok_or_else(|| self.error(format!("the record ends before its {name}")))?;
+    pub fn reading(&mut self, name: impl Display) -> Result<f64, LogError> {
+        let word = self.word(&name)?;
         word.parse::<f64>()
             .map_err(|_| self.error(format!("{name} is {word:?} (expected a number)")))
     }
 
     /// The next field as a count of at most `max`.
-    pub fn count(&mut self, name: &str, max: usize) -> Result<usize, LogError> {
-        let word = self
-            .words
-            .next()
-            .ok_or_else(|| self.error(format!("the record ends before its {name}")))?;
+    pub fn count(&mut self, name: impl Display, max: usize) -> Result<usize, LogError> {
+        let word = self.word(&name)?;
         match word.parse::<usize>() {
             Ok(n) if n <= max => Ok(n),
             _ => Err(self.error(format!(
@@ -167,7 +167,7 @@ impl<'a> Fields<'a> {
     pub fn readings(&mut self, n: usize, scale: f64) -> Result<Vec<f32>, LogError> {
         (0..n)
             .map(|k| {
-                self.reading(&format!("reading {} of {n}", k + 1))
+                self.reading(format_args!("reading {} of {n}", k + 1))
                     .map(|v| (v * scale) as f32)
             })
             .collect()
@@ -175,18 +175,16 @@ impl<'a> Fields<'a> {
 
     /// A pose `x y theta` (`scale` for x and y).
     pub fn pose(&mut self, name: &str, scale: f64) -> Result<usar_world::Pose2, LogError> {
-        let x = self.number(&format!("{name} x"))? * scale;
-        let y = self.number(&format!("{name} y"))? * scale;
-        let theta = self.number(&format!("{name} theta"))?;
+        let x = self.number(format_args!("{name} x"))? * scale;
+        let y = self.number(format_args!("{name} y"))? * scale;
+        let theta = self.number(format_args!("{name} theta"))?;
         Ok(usar_world::Pose2::new(x, y, theta))
     }
 
     /// Skips `n` fields.
     pub fn skip(&mut self, n: usize, name: &str) -> Result<(), LogError> {
         for _ in 0..n {
-            self.words
-                .next()
-                .ok_or_else(|| self.error(format!("the record ends before its {name}")))?;
+            self.word(&name)?;
         }
         Ok(())
     }
