@@ -5,7 +5,8 @@
 //! markers (a sphere per node, a line list of the links).
 
 use crate::msgs::{self, Frame, Marker, Shape};
-use crate::team::{SENSOR_PERIOD_S, sphere};
+use crate::recording::Sticky;
+use crate::team::{Schedule, sphere};
 use crate::{RecordError, Recording};
 use std::io::{Seek, Write};
 use usar_btm::Btm;
@@ -45,76 +46,69 @@ pub(crate) fn btm_markers(t: f64, btm: Option<&Btm>) -> Vec<u8> {
 
 /// See the [module documentation](self).
 pub struct BtmRecorder<W: Write + Seek> {
-    recording: Recording<W>,
-    next_sensors_s: f64,
-    /// The first write that failed: nothing more is written, and it is reported at the end.
-    pub error: Option<RecordError>,
+    sink: Sticky<W>,
+    schedule: Schedule,
 }
 
 impl<W: Write + Seek> BtmRecorder<W> {
     pub fn new(recording: Recording<W>) -> Self {
         Self {
-            recording,
-            next_sensors_s: 0.0,
-            error: None,
+            sink: Sticky::new(recording),
+            schedule: Schedule::default(),
         }
     }
 
     pub fn observe(&mut self, p: &BuildProgress<'_>) {
-        if self.error.is_none()
-            && let Err(e) = self.record(p)
-        {
-            self.error = Some(e);
-        }
+        let schedule = &mut self.schedule;
+        self.sink.write_with(|rec| record(rec, schedule, p));
     }
 
     /// Completes the file; the messages written, or the error that ended the recording.
     pub fn finish(self) -> Result<u64, RecordError> {
-        match self.error {
-            Some(e) => Err(e),
-            None => self.recording.finish(),
-        }
+        self.sink.finish()
     }
+}
 
-    fn record(&mut self, p: &BuildProgress<'_>) -> Result<(), RecordError> {
-        let t = p.time_s;
-        let rec = &mut self.recording;
-        rec.write("/clock", msgs::clock_type, t, &msgs::clock(t))?;
-        let truth = Frame {
-            parent: "map",
-            child: "crawler",
-            x: p.truth.x,
-            y: p.truth.y,
-            yaw: p.truth.theta,
-        };
-        rec.write("/tf", msgs::tf_type, t, &msgs::tf(t, &[truth]))?;
-        if t + 1e-9 < self.next_sensors_s {
-            return Ok(());
-        }
-        self.next_sensors_s += SENSOR_PERIOD_S;
-        let view = p.scan;
-        let ranges: Vec<f32> = view
-            .beams
-            .iter()
-            .map(|b| b.map_or(f32::INFINITY, |q| q.x.hypot(q.y) as f32))
-            .collect();
-        let scan = msgs::laser_scan(
-            t,
-            "crawler",
-            view.angle_min_rad,
-            view.angle_increment_rad,
-            view.max_range_m,
-            &ranges,
-        );
-        rec.write("/crawler/scan", msgs::laser_scan_type, t, &scan)?;
-        let e = p.estimated;
-        let odom = msgs::odometry(t, "map", "crawler", (e.x, e.y, e.theta), (0.0, 0.0));
-        rec.write("/crawler/odom", msgs::odometry_type, t, &odom)?;
-        rec.write(
-            "/btm",
-            msgs::marker_array_type,
-            t,
-            &btm_markers(t, Some(p.btm)),
-        )
+fn record<W: Write + Seek>(
+    rec: &mut Recording<W>,
+    schedule: &mut Schedule,
+    p: &BuildProgress<'_>,
+) -> Result<(), RecordError> {
+    let t = p.time_s;
+    rec.write("/clock", msgs::clock_type, t, &msgs::clock(t))?;
+    let truth = Frame {
+        parent: "map",
+        child: "crawler",
+        x: p.truth.x,
+        y: p.truth.y,
+        yaw: p.truth.theta,
+    };
+    rec.write("/tf", msgs::tf_type, t, &msgs::tf(t, &[truth]))?;
+    if !schedule.sensors_due(t) {
+        return Ok(());
     }
+    let view = p.scan;
+    let ranges: Vec<f32> = view
+        .beams
+        .iter()
+        .map(|b| b.map_or(f32::INFINITY, |q| q.x.hypot(q.y) as f32))
+        .collect();
+    let scan = msgs::laser_scan(
+        t,
+        "crawler",
+        view.angle_min_rad,
+        view.angle_increment_rad,
+        view.max_range_m,
+        &ranges,
+    );
+    rec.write("/crawler/scan", msgs::laser_scan_type, t, &scan)?;
+    let e = p.estimated;
+    let odom = msgs::odometry(t, "map", "crawler", (e.x, e.y, e.theta), (0.0, 0.0));
+    rec.write("/crawler/odom", msgs::odometry_type, t, &odom)?;
+    rec.write(
+        "/btm",
+        msgs::marker_array_type,
+        t,
+        &btm_markers(t, Some(p.btm)),
+    )
 }

@@ -17,6 +17,7 @@
 
 use crate::btm::btm_markers;
 use crate::msgs;
+use crate::recording::Sticky;
 use crate::team::{
     Schedule, goal_markers, merged_map, sphere, write_clock_and_tf, write_odometry,
     write_team_scans,
@@ -29,72 +30,63 @@ use usar_sim::SimRobot;
 
 /// See the [module documentation](self).
 pub struct MissionRecorder<W: Write + Seek> {
-    recording: Recording<W>,
+    /// A failed write ends the mission; the error is reported by `finish`.
+    sink: Sticky<W>,
     schedule: Schedule,
-    /// The first write that failed: the mission is ended and the error reported.
-    pub error: Option<RecordError>,
 }
 
 impl<W: Write + Seek> MissionRecorder<W> {
     pub fn new(recording: Recording<W>) -> Self {
         Self {
-            recording,
+            sink: Sticky::new(recording),
             schedule: Schedule::default(),
-            error: None,
         }
     }
 
     /// Completes the file; the messages written, or the error that ended the recording.
     pub fn finish(self) -> Result<u64, RecordError> {
-        match self.error {
-            Some(e) => Err(e),
-            None => self.recording.finish(),
-        }
-    }
-
-    fn record(&mut self, live: &LiveMission<'_, '_>) -> Result<(), RecordError> {
-        let t = live.time_s();
-        let truth = live.evaluator();
-        let robots: Vec<(String, &SimRobot)> = robots(live)
-            .into_iter()
-            .map(|(name, id)| (name, truth.robot(id)))
-            .collect();
-        let rec = &mut self.recording;
-        write_clock_and_tf(rec, t, &robots)?;
-        if self.schedule.sensors_due(t) {
-            write_team_scans(rec, t, live.team(), live.team_len())?;
-            write_odometry(rec, t, &robots)?;
-            let btm = live.crawler().map(|c| c.btm());
-            rec.write("/btm", msgs::marker_array_type, t, &btm_markers(t, btm))?;
-            rec.write(
-                "/victims",
-                msgs::marker_array_type,
-                t,
-                &victim_markers(t, live),
-            )?;
-            let goals = goal_markers(t, live.team(), live.team_len());
-            rec.write("/goals", msgs::marker_array_type, t, &goals)?;
-        }
-        if self.schedule.map_due(t) {
-            let map = merged_map(t, live.team().base_station());
-            rec.write("/map", msgs::occupancy_grid_type, t, &map)?;
-        }
-        Ok(())
+        self.sink.finish()
     }
 }
 
+fn record<W: Write + Seek>(
+    rec: &mut Recording<W>,
+    schedule: &mut Schedule,
+    live: &LiveMission<'_, '_>,
+) -> Result<(), RecordError> {
+    let t = live.time_s();
+    let truth = live.evaluator();
+    let robots: Vec<(String, &SimRobot)> = robots(live)
+        .into_iter()
+        .map(|(name, id)| (name, truth.robot(id)))
+        .collect();
+    write_clock_and_tf(rec, t, &robots)?;
+    if schedule.sensors_due(t) {
+        write_team_scans(rec, t, live.team(), live.team_len())?;
+        write_odometry(rec, t, &robots)?;
+        let btm = live.crawler().map(|c| c.btm());
+        rec.write("/btm", msgs::marker_array_type, t, &btm_markers(t, btm))?;
+        rec.write(
+            "/victims",
+            msgs::marker_array_type,
+            t,
+            &victim_markers(t, live),
+        )?;
+        let goals = goal_markers(t, live.team(), live.team_len());
+        rec.write("/goals", msgs::marker_array_type, t, &goals)?;
+    }
+    if schedule.map_due(t) {
+        let map = merged_map(t, live.team().base_station());
+        rec.write("/map", msgs::occupancy_grid_type, t, &map)?;
+    }
+    Ok(())
+}
+
 impl<W: Write + Seek> MissionHook for MissionRecorder<W> {
+    /// A failed write ends the mission.
     fn after_decide(&mut self, live: &mut LiveMission<'_, '_>) -> bool {
-        if self.error.is_some() {
-            return false;
-        }
-        match self.record(live) {
-            Ok(()) => true,
-            Err(e) => {
-                self.error = Some(e);
-                false
-            }
-        }
+        let schedule = &mut self.schedule;
+        self.sink.write_with(|rec| record(rec, schedule, live))
     }
 }
 

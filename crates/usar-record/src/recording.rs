@@ -84,3 +84,41 @@ impl<W: Write + Seek> Recording<W> {
         Ok(self.messages)
     }
 }
+
+/// A recording written from inside a run that cannot be stopped by a failed write (a mission,
+/// a build, an evaluation): the first error is kept, nothing more is written, and
+/// [`Sticky::finish`] reports it.
+pub(crate) struct Sticky<W: Write + Seek> {
+    recording: Recording<W>,
+    error: Option<RecordError>,
+}
+
+impl<W: Write + Seek> Sticky<W> {
+    pub fn new(recording: Recording<W>) -> Self {
+        Self {
+            recording,
+            error: None,
+        }
+    }
+
+    /// Runs `write` unless a write failed before; whether the recording is still sound.
+    pub fn write_with(
+        &mut self,
+        write: impl FnOnce(&mut Recording<W>) -> Result<(), RecordError>,
+    ) -> bool {
+        if self.error.is_none()
+            && let Err(e) = write(&mut self.recording)
+        {
+            self.error = Some(e);
+        }
+        self.error.is_none()
+    }
+
+    /// Completes the file; the messages written, or the error that ended the recording.
+    pub fn finish(self) -> Result<u64, RecordError> {
+        match self.error {
+            Some(e) => Err(e),
+            None => self.recording.finish(),
+        }
+    }
+}

@@ -7,6 +7,7 @@
 //! markers (yellow undecided, green tagged, grey dismissed).
 
 use crate::msgs;
+use crate::recording::Sticky;
 use crate::team::sphere;
 use crate::{RecordError, Recording};
 use std::io::{Seek, Write};
@@ -20,94 +21,89 @@ pub const MAP_EVERY: u64 = 10;
 
 /// See the [module documentation](self).
 pub struct RescueRecorder<W: Write + Seek> {
-    recording: Recording<W>,
+    sink: Sticky<W>,
     steps: u64,
-    /// The first write that failed: nothing more is written, and it is reported at the end.
-    pub error: Option<RecordError>,
 }
 
 impl<W: Write + Seek> RescueRecorder<W> {
     pub fn new(recording: Recording<W>) -> Self {
         Self {
-            recording,
+            sink: Sticky::new(recording),
             steps: 0,
-            error: None,
         }
     }
 
     pub fn observe(&mut self, domain: &EvalDomain<'_>) {
-        if self.error.is_none()
-            && let Err(e) = self.record(domain)
-        {
-            self.error = Some(e);
-        }
+        let with_map = self.steps.is_multiple_of(MAP_EVERY);
+        self.sink.write_with(|rec| record(rec, with_map, domain));
         self.steps += 1;
     }
 
     /// Completes the file; the messages written, or the error that ended the recording.
     pub fn finish(self) -> Result<u64, RecordError> {
-        match self.error {
-            Some(e) => Err(e),
-            None => self.recording.finish(),
-        }
+        self.sink.finish()
     }
+}
 
-    fn record(&mut self, d: &EvalDomain<'_>) -> Result<(), RecordError> {
-        let g = d.scene().view.geometry;
-        let t = d.agent.stats.time_s;
-        let rec = &mut self.recording;
-        rec.write("/clock", msgs::clock_type, t, &msgs::clock(t))?;
-        let robot = &d.agent.robot;
-        let at = g.cell_center(robot.cell);
-        let frame = msgs::Frame {
-            parent: "map",
-            child: "rescuer",
-            x: at.x,
-            y: at.y,
-            yaw: f64::from(robot.heading) * std::f64::consts::FRAC_PI_2,
-        };
-        rec.write("/tf", msgs::tf_type, t, &msgs::tf(t, &[frame]))?;
-        if !self.steps.is_multiple_of(MAP_EVERY) {
-            return Ok(());
-        }
-        let map = &d.agent.map;
-        let data: Vec<i8> = map
-            .cells
-            .iter()
-            .map(|c| match c {
-                MapCell::Unknown => -1,
-                MapCell::OpenUnvisited | MapCell::OpenVisited => 0,
-                MapCell::ClimbableUnvisited | MapCell::ClimbableVisited => 50,
-                MapCell::UnknownObstacle | MapCell::NonClimbable | MapCell::Victim => 100,
-            })
-            .collect();
-        let grid = msgs::occupancy_grid(
-            t,
-            "map",
-            g.resolution_m,
-            (map.cols as u32, map.rows as u32),
-            (g.origin.x, g.origin.y),
-            &data,
-        );
-        rec.write("/rescuer/map", msgs::occupancy_grid_type, t, &grid)?;
-        let markers: Vec<msgs::Marker<'_>> = d
-            .possible_victims()
-            .enumerate()
-            .map(|(k, ((c, r), mark, _))| {
-                let p = g.cell_center(Cell::new(c, r));
-                let rgba = match mark {
-                    VictimMark::Pending => [1.0, 0.85, 0.2, 1.0],
-                    VictimMark::Tagged => [0.2, 1.0, 0.2, 1.0],
-                    VictimMark::Dismissed => [0.5, 0.5, 0.5, 1.0],
-                };
-                sphere("rescuer", k as i32, (p.x, p.y), 0.5, rgba)
-            })
-            .collect();
-        rec.write(
-            "/victims",
-            msgs::marker_array_type,
-            t,
-            &msgs::marker_array(t, "map", &markers),
-        )
+/// One step: the pose, and the map and the victims when `with_map`.
+fn record<W: Write + Seek>(
+    rec: &mut Recording<W>,
+    with_map: bool,
+    d: &EvalDomain<'_>,
+) -> Result<(), RecordError> {
+    let g = d.scene().view.geometry;
+    let t = d.agent.stats.time_s;
+    rec.write("/clock", msgs::clock_type, t, &msgs::clock(t))?;
+    let robot = &d.agent.robot;
+    let at = g.cell_center(robot.cell);
+    let frame = msgs::Frame {
+        parent: "map",
+        child: "rescuer",
+        x: at.x,
+        y: at.y,
+        yaw: f64::from(robot.heading) * std::f64::consts::FRAC_PI_2,
+    };
+    rec.write("/tf", msgs::tf_type, t, &msgs::tf(t, &[frame]))?;
+    if !with_map {
+        return Ok(());
     }
+    let map = &d.agent.map;
+    let data: Vec<i8> = map
+        .cells
+        .iter()
+        .map(|c| match c {
+            MapCell::Unknown => -1,
+            MapCell::OpenUnvisited | MapCell::OpenVisited => 0,
+            MapCell::ClimbableUnvisited | MapCell::ClimbableVisited => 50,
+            MapCell::UnknownObstacle | MapCell::NonClimbable | MapCell::Victim => 100,
+        })
+        .collect();
+    let grid = msgs::occupancy_grid(
+        t,
+        "map",
+        g.resolution_m,
+        (map.cols as u32, map.rows as u32),
+        (g.origin.x, g.origin.y),
+        &data,
+    );
+    rec.write("/rescuer/map", msgs::occupancy_grid_type, t, &grid)?;
+    let markers: Vec<msgs::Marker<'_>> = d
+        .possible_victims()
+        .enumerate()
+        .map(|(k, ((c, r), mark, _))| {
+            let p = g.cell_center(Cell::new(c, r));
+            let rgba = match mark {
+                VictimMark::Pending => [1.0, 0.85, 0.2, 1.0],
+                VictimMark::Tagged => [0.2, 1.0, 0.2, 1.0],
+                VictimMark::Dismissed => [0.5, 0.5, 0.5, 1.0],
+            };
+            sphere("rescuer", k as i32, (p.x, p.y), 0.5, rgba)
+        })
+        .collect();
+    rec.write(
+        "/victims",
+        msgs::marker_array_type,
+        t,
+        &msgs::marker_array(t, "map", &markers),
+    )
 }

@@ -5,6 +5,7 @@
 //! 2.5 s. The pieces are shared with the mission recorder.
 
 use crate::msgs::{self, Frame, Marker, Shape};
+use crate::recording::Sticky;
 use crate::{RecordError, Recording};
 use std::io::{Seek, Write};
 use usar_map::CellClass;
@@ -165,68 +166,63 @@ pub(crate) fn goal_markers(t: f64, team: &TeamController, robots: usize) -> Vec<
 
 /// See the [module documentation](self).
 pub struct TeamRecorder<W: Write + Seek> {
-    recording: Recording<W>,
+    sink: Sticky<W>,
     schedule: Schedule,
-    /// The first write that failed: nothing more is written, and it is reported at the end.
-    pub error: Option<RecordError>,
 }
 
 impl<W: Write + Seek> TeamRecorder<W> {
     pub fn new(recording: Recording<W>) -> Self {
         Self {
-            recording,
+            sink: Sticky::new(recording),
             schedule: Schedule::default(),
-            error: None,
         }
     }
 
     /// Records the mission as it stands after a step.
     pub fn observe(&mut self, mission: &TeamMission) {
-        if self.error.is_none()
-            && let Err(e) = self.record(mission)
-        {
-            self.error = Some(e);
-        }
+        let schedule = &mut self.schedule;
+        self.sink
+            .write_with(|rec| record_team(rec, schedule, mission));
     }
 
     /// Completes the file; the messages written, or the error that ended the recording.
     pub fn finish(self) -> Result<u64, RecordError> {
-        match self.error {
-            Some(e) => Err(e),
-            None => self.recording.finish(),
-        }
+        self.sink.finish()
     }
+}
 
-    fn record(&mut self, mission: &TeamMission) -> Result<(), RecordError> {
-        let sim = mission.simulation();
-        let t = sim.time_s();
-        let robots: Vec<(String, &SimRobot)> = mission
-            .robot_ids()
-            .iter()
-            .enumerate()
-            .map(|(k, &id)| (format!("team_{}", k + 1), sim.robot(id)))
-            .collect();
-        let rec = &mut self.recording;
-        write_clock_and_tf(rec, t, &robots)?;
-        let team = mission.team();
-        if self.schedule.sensors_due(t) {
-            write_team_scans(rec, t, team, robots.len())?;
-            write_odometry(rec, t, &robots)?;
-            rec.write(
-                "/goals",
-                msgs::marker_array_type,
-                t,
-                &goal_markers(t, team, robots.len()),
-            )?;
-        }
-        if self.schedule.map_due(t) {
-            rec.write(
-                "/map",
-                msgs::occupancy_grid_type,
-                t,
-                &merged_map(t, mission.base_station()),
-            )?;
-        }
-        Ok(())
+fn record_team<W: Write + Seek>(
+    rec: &mut Recording<W>,
+    schedule: &mut Schedule,
+    mission: &TeamMission,
+) -> Result<(), RecordError> {
+    let sim = mission.simulation();
+    let t = sim.time_s();
+    let robots: Vec<(String, &SimRobot)> = mission
+        .robot_ids()
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| (format!("team_{}", k + 1), sim.robot(id)))
+        .collect();
+    write_clock_and_tf(rec, t, &robots)?;
+    let team = mission.team();
+    if schedule.sensors_due(t) {
+        write_team_scans(rec, t, team, robots.len())?;
+        write_odometry(rec, t, &robots)?;
+        rec.write(
+            "/goals",
+            msgs::marker_array_type,
+            t,
+            &goal_markers(t, team, robots.len()),
+        )?;
     }
+    if schedule.map_due(t) {
+        rec.write(
+            "/map",
+            msgs::occupancy_grid_type,
+            t,
+            &merged_map(t, mission.base_station()),
+        )?;
+    }
+    Ok(())
 }
