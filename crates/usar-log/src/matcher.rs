@@ -131,12 +131,10 @@ pub struct CorrelativeMatcher {
     coarse: GrowGrid,
     /// The kernel: (d_col, d_row, value) out to 3σ.
     kernel: Vec<(i64, i64, u8)>,
-}
-
-/// One candidate heading: the scan's points in cells, relative to the predicted position.
-struct Rotated {
-    theta: f64,
-    cells: Vec<(i64, i64)>,
+    /// Kept between scans: the scan's points in cells relative to the predicted position, one
+    /// run of points per candidate heading, and the blocks of translations with their bounds.
+    rotated: Vec<(i64, i64)>,
+    blocks: Vec<(u64, usize, i64, i64)>,
 }
 
 impl CorrelativeMatcher {
@@ -158,6 +156,8 @@ impl CorrelativeMatcher {
             fine: GrowGrid::default(),
             coarse: GrowGrid::default(),
             kernel,
+            rotated: Vec::new(),
+            blocks: Vec::new(),
         }
     }
 
@@ -207,46 +207,59 @@ impl CorrelativeMatcher {
     /// The pose near `predicted` at which `points` (laser frame) score best, with its score
     /// as a share of the best possible; `None` when the grid is empty or no pose reaches
     /// [`MatcherParams::min_score_share`].
-    pub fn match_scan(&self, points: &[Point2], predicted: Pose2) -> Option<(Pose2, f64)> {
+    pub fn match_scan(&mut self, points: &[Point2], predicted: Pose2) -> Option<(Pose2, f64)> {
         if self.is_empty() || points.is_empty() {
             return None;
         }
+        let (mut rotated, mut blocks) = (
+            std::mem::take(&mut self.rotated),
+            std::mem::take(&mut self.blocks),
+        );
+        let found = self.search(points, predicted, &mut rotated, &mut blocks);
+        (self.rotated, self.blocks) = (rotated, blocks);
+        found
+    }
+
+    fn search(
+        &self,
+        points: &[Point2],
+        predicted: Pose2,
+        rotated: &mut Vec<(i64, i64)>,
+        blocks: &mut Vec<(u64, usize, i64, i64)>,
+    ) -> Option<(Pose2, f64)> {
         let p = &self.params;
         let r = p.resolution_m;
+        let n = points.len();
         let farthest = points.iter().map(|b| b.x.hypot(b.y)).fold(r, f64::max);
         let step = (r / farthest).clamp(1e-4, 0.05);
         let headings = (p.window_rad / step).ceil() as i64;
         let window = (p.window_m / r).ceil() as i64;
         let block = p.block as i64;
         let origin = self.cell(predicted.position());
-        let rotated: Vec<Rotated> = (-headings..=headings)
-            .map(|k| {
-                let theta = normalize_angle(predicted.theta + k as f64 * step);
-                let frame = Pose2::new(predicted.x, predicted.y, theta).body_to_world();
-                let cells = points
-                    .iter()
-                    .map(|&b| {
-                        let c = self.cell(frame.apply(b));
-                        (c.0 - origin.0, c.1 - origin.1)
-                    })
-                    .collect();
-                Rotated { theta, cells }
-            })
-            .collect();
-        let score = |grid: &GrowGrid, rot: &Rotated, dc: i64, dr: i64| -> u64 {
-            rot.cells
+        let theta =
+            |k: usize| normalize_angle(predicted.theta + (k as i64 - headings) as f64 * step);
+        rotated.clear();
+        for k in 0..(2 * headings + 1) as usize {
+            let frame = Pose2::new(predicted.x, predicted.y, theta(k)).body_to_world();
+            rotated.extend(points.iter().map(|&b| {
+                let c = self.cell(frame.apply(b));
+                (c.0 - origin.0, c.1 - origin.1)
+            }));
+        }
+        let score = |grid: &GrowGrid, k: usize, dc: i64, dr: i64| -> u64 {
+            rotated[k * n..(k + 1) * n]
                 .iter()
                 .map(|&(c, r)| u64::from(grid.get(origin.0 + c + dc, origin.1 + r + dr)))
                 .sum()
         };
         // Every block of translations at every heading, with its bound.
-        let mut blocks: Vec<(u64, usize, i64, i64)> = Vec::new();
-        for (k, rot) in rotated.iter().enumerate() {
+        blocks.clear();
+        for k in 0..(2 * headings + 1) as usize {
             let mut dr = -window;
             while dr <= window {
                 let mut dc = -window;
                 while dc <= window {
-                    blocks.push((score(&self.coarse, rot, dc, dr), k, dc, dr));
+                    blocks.push((score(&self.coarse, k, dc, dr), k, dc, dr));
                     dc += block;
                 }
                 dr += block;
@@ -254,13 +267,13 @@ impl CorrelativeMatcher {
         }
         blocks.sort_unstable_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
         let mut best: Option<(u64, usize, i64, i64)> = None;
-        for &(bound, k, dc0, dr0) in &blocks {
+        for &(bound, k, dc0, dr0) in blocks.iter() {
             if best.is_some_and(|b| bound <= b.0) {
                 break;
             }
             for dr in dr0..(dr0 + block).min(window + 1) {
                 for dc in dc0..(dc0 + block).min(window + 1) {
-                    let s = score(&self.fine, &rotated[k], dc, dr);
+                    let s = score(&self.fine, k, dc, dr);
                     if best.is_none_or(|b| s > b.0) {
                         best = Some((s, k, dc, dr));
                     }
@@ -268,13 +281,13 @@ impl CorrelativeMatcher {
             }
         }
         let (s, k, dc, dr) = best?;
-        let share = s as f64 / (255.0 * points.len() as f64);
+        let share = s as f64 / (255.0 * n as f64);
         (share >= p.min_score_share).then(|| {
             (
                 Pose2::new(
                     predicted.x + dc as f64 * r,
                     predicted.y + dr as f64 * r,
-                    rotated[k].theta,
+                    theta(k),
                 ),
                 share,
             )

@@ -129,13 +129,13 @@ impl FrontierExplorer {
         }
     }
 
-    /// The goal: the candidate of the frontier nearest the robot, facing it from the robot.
-    pub fn goal(&mut self) -> Option<Pose2> {
+    /// The goal among `clusters` (from [`FrontierExplorer::clusters`]): the candidate of the
+    /// frontier nearest the robot, facing it from the robot.
+    pub fn goal(&self, clusters: &[FrontierCluster]) -> Option<Pose2> {
         let here = self.pose.position();
         let g = *self.grid.as_ref()?.geometry();
-        let best = self
-            .clusters()
-            .into_iter()
+        let best = clusters
+            .iter()
             .map(|c| g.cell_center(c.candidate))
             .min_by(|a, b| a.distance(here).total_cmp(&b.distance(here)))?;
         Some(Pose2::new(best.x, best.y, here.bearing_to(best)))
@@ -185,7 +185,7 @@ pub fn run_explore(
             next_goal = now + Duration::from_secs(1);
             let clusters = explorer.clusters();
             publish_candidates(&markers, stamp, &explorer, &clusters)?;
-            if let Some(goal) = explorer.goal() {
+            if let Some(goal) = explorer.goal(&clusters) {
                 let moved = report
                     .last_goal
                     .is_none_or(|g| g.position().distance(goal.position()) > 0.5);
